@@ -1,0 +1,125 @@
+"""A small benchmark harness shared by every benchmark under bench/.
+
+Why: speed is measured, never asserted. Each benchmark times a callable N times, prints
+median/min/max, and appends one dated row per metric to bench/RESULTS.md together with the
+machine's CPU model, core count and Python version, so results from different days and machines
+can be compared side by side.
+
+Usage::
+
+    from bench.harness import Benchmark
+
+    bench = Benchmark("sim2d")
+    stats = bench.time("physics+lidar step", step, repeat=200, warmup=10)   # seconds per call
+    bench.record("physics+lidar step", stats.median * 1e3, "ms", note="waffle, 360 beams")
+    bench.record_value("node real-time factor (max mode)", 143.0, "x")
+    bench.save()                                                           # append to RESULTS.md
+
+Run one benchmark with ``.venv/bin/python -m bench.<module>``; ``--no-record`` prints only.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import platform
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+RESULTS = Path(__file__).resolve().parent / "RESULTS.md"
+_HEADER = (
+    "# Benchmark results\n\n"
+    "Rows are appended by `bench/harness.py`; each names the date, the machine and the median.\n"
+    "Numbers are comparable only within one machine; ratios against a baseline measured in the same\n"
+    "run are printed by the benchmarks themselves.\n\n"
+    "| date | suite | metric | median | min | max | unit | n | machine | note |\n"
+    "|---|---|---|---|---|---|---|---|---|---|\n"
+)
+
+
+def machine_description() -> str:
+    """CPU model, logical cores and Python version, e.g. 'AMD EPYC 7B13 ×2, py3.11'."""
+    model = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{model} ×{os.cpu_count()}, py{sys.version_info.major}.{sys.version_info.minor}"
+
+
+@dataclass(frozen=True)
+class Stats:
+    """Summary of repeated measurements (same unit as the samples)."""
+
+    median: float
+    minimum: float
+    maximum: float
+    count: int
+
+    @classmethod
+    def of(cls, samples: list[float]) -> Stats:
+        if not samples:
+            raise ValueError("no samples")
+        return cls(statistics.median(samples), min(samples), max(samples), len(samples))
+
+
+@dataclass
+class Benchmark:
+    """Collects the rows of one benchmark suite and appends them to RESULTS.md."""
+
+    suite: str
+    record_results: bool = field(default_factory=lambda: "--no-record" not in sys.argv)
+    rows: list[str] = field(default_factory=list)
+
+    def time(self, label: str, fn: Callable[[], object], repeat: int = 50, warmup: int = 3) -> Stats:
+        """Call ``fn`` ``warmup`` times untimed, then ``repeat`` times; return seconds per call."""
+        for _ in range(warmup):
+            fn()
+        samples = []
+        for _ in range(repeat):
+            started = time.perf_counter()
+            fn()
+            samples.append(time.perf_counter() - started)
+        stats = Stats.of(samples)
+        print(
+            f"{self.suite}: {label}: median {stats.median * 1e3:.3f} ms "
+            f"(min {stats.minimum * 1e3:.3f}, max {stats.maximum * 1e3:.3f}, n={stats.count})",
+            flush=True,
+        )
+        return stats
+
+    def record(self, metric: str, stats: Stats, unit: str, scale: float = 1.0, note: str = "") -> None:
+        """Queue a row for ``stats`` (multiplied by ``scale``, e.g. 1e3 for seconds → ms)."""
+        self._add(metric, stats.median * scale, stats.minimum * scale, stats.maximum * scale, unit,
+                  stats.count, note)
+
+    def record_value(self, metric: str, value: float, unit: str, note: str = "") -> None:
+        """Queue a row for a single figure (a success rate, an RMS error, a real-time factor)."""
+        print(f"{self.suite}: {metric}: {value:.4g} {unit} {note}".rstrip(), flush=True)
+        self._add(metric, value, value, value, unit, 1, note)
+
+    def _add(self, metric: str, median: float, low: float, high: float, unit: str, n: int,
+             note: str) -> None:
+        today = _dt.date.today().isoformat()
+        self.rows.append(
+            f"| {today} | {self.suite} | {metric} | {median:.4g} | {low:.4g} | {high:.4g} | {unit} | {n} "
+            f"| {machine_description()} | {note} |\n"
+        )
+
+    def save(self) -> None:
+        """Append the queued rows to bench/RESULTS.md (creating it with a header if needed)."""
+        if not self.record_results or not self.rows:
+            return
+        if not RESULTS.exists():
+            RESULTS.write_text(_HEADER)
+        with RESULTS.open("a") as out:
+            out.writelines(self.rows)
+        print(f"{self.suite}: {len(self.rows)} rows appended to {RESULTS}")
+        self.rows.clear()

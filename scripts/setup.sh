@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# One-time (and idempotent) setup behind `make demo` and `make test`:
+#   1. check the system prerequisites and say what to install when one is missing;
+#   2. create .venv and install the project with its dev and interface-build groups
+#      (only when pyproject.toml changed since the last install);
+#   3. build the ROS interface packages under interfaces/ into .venv, or restore them
+#      from the cache (~/.cache/navsuite/interfaces/<hash>) when interfaces/ is unchanged.
+# A second run with nothing changed takes a few seconds and rebuilds nothing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VENV=${VENV:-.venv}
+PYTHON=${PYTHON:-python3}
+
+missing=()
+need() {  # need <command> <debian package> <why>
+  command -v "$1" >/dev/null 2>&1 || missing+=("  - '$1' not found: install the Debian/Ubuntu package '$2' ($3)")
+}
+need "$PYTHON" python3 "runs everything"
+need cmake cmake "builds the ROS interface packages"
+need cc gcc "compiles the interface type support"
+need c++ g++ "compiles the interface type support"
+need make make "drives the build"
+need git git "versioning"
+if command -v "$PYTHON" >/dev/null 2>&1; then
+  if ! "$PYTHON" -c 'import sys; sys.exit(not ((3, 10) <= sys.version_info[:2] <= (3, 13)))'; then
+    missing+=("  - $PYTHON is $("$PYTHON" -V 2>&1); ROS 2 Jazzy wheels exist for Python 3.10 to 3.13: set PYTHON=python3.11 (or similar)")
+  elif ! "$PYTHON" -c 'import venv, ensurepip' >/dev/null 2>&1; then
+    missing+=("  - $PYTHON has no venv/ensurepip module: install the package 'python3-venv'")
+  elif ! "$PYTHON" -c 'import sysconfig, os, sys; sys.exit(not os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")))'; then
+    missing+=("  - Python headers (Python.h) are missing: install the package 'python3-dev'")
+  fi
+fi
+if command -v cmake >/dev/null 2>&1; then
+  cmake_version=$(cmake --version | head -n1 | grep -oE '[0-9]+\.[0-9]+' | head -n1)
+  if [ "$(printf '%s\n3.22\n' "$cmake_version" | sort -V | head -n1)" != "3.22" ]; then
+    missing+=("  - cmake $cmake_version is too old: version 3.22 or newer is needed")
+  fi
+fi
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: the system is missing what the build needs:" >&2
+  printf '%s\n' "${missing[@]}" >&2
+  echo "setup: for example: sudo apt-get install python3-venv python3-dev cmake gcc g++ make git" >&2
+  exit 2
+fi
+
+if [ ! -x "$VENV/bin/python" ]; then
+  echo "setup: creating $VENV with $("$PYTHON" -V 2>&1)"
+  "$PYTHON" -m venv "$VENV"
+fi
+
+deps_key=$(cat pyproject.toml | sha256sum | cut -c1-16)
+deps_stamp="$VENV/.navsuite-deps"
+if [ "$(cat "$deps_stamp" 2>/dev/null)" != "$deps_key" ]; then
+  echo "setup: installing Python dependencies into $VENV (ROS 2 Jazzy wheels, numpy, pymunk, dev tools)"
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --upgrade "pip>=25.1"
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+      --editable . --group dev --group interfaces 2>&1 | { grep -v "is ignored: it is neither a file nor a directory" || true; }
+  echo "$deps_key" > "$deps_stamp"
+fi
+
+"$VENV/bin/python" scripts/build_interfaces.py --venv "$VENV"

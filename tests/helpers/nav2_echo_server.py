@@ -1,0 +1,62 @@
+"""A stand-alone NavigateToPose action server used by the cross-process system test.
+
+It runs in its own process (``python tests/helpers/nav2_echo_server.py``), accepts every goal,
+publishes ``FEEDBACK_STEPS`` feedback messages whose distance_remaining falls to zero, and succeeds
+with an error_msg that echoes the goal, so the test can check that goal, feedback and result all
+crossed the process boundary intact. It prints "ready" once the server exists.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+FEEDBACK_STEPS = 5
+
+
+def main() -> int:
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    import rclpy
+    from nav2_msgs.action import NavigateToPose
+    from rclpy.action import ActionServer
+    from rclpy.executors import ExternalShutdownException
+
+    def execute(goal_handle):  # type: ignore[no-untyped-def]
+        pose = goal_handle.request.pose.pose.position
+        # Feedback is only useful once the client's feedback subscription has matched ours.
+        deadline = time.monotonic() + 10.0
+        feedback_topic = "navigate_to_pose/_action/feedback"
+        while node.count_subscribers(feedback_topic) == 0 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        for step in range(FEEDBACK_STEPS):
+            feedback = NavigateToPose.Feedback()
+            feedback.distance_remaining = float(FEEDBACK_STEPS - 1 - step)
+            feedback.number_of_recoveries = step
+            feedback.current_pose.header.frame_id = "map"
+            goal_handle.publish_feedback(feedback)
+        goal_handle.succeed()
+        result = NavigateToPose.Result()
+        result.error_code = NavigateToPose.Result.NONE
+        frame = goal_handle.request.pose.header.frame_id
+        result.error_msg = f"reached ({pose.x:.2f}, {pose.y:.2f}) in {frame}"
+        return result
+
+    rclpy.init()
+    node = rclpy.create_node("nav2_echo_server")
+    server = ActionServer(node, NavigateToPose, "navigate_to_pose", execute)
+    print("ready", flush=True)
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        server.destroy()
+        node.destroy_node()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

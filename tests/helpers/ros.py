@@ -1,0 +1,78 @@
+"""Helpers for tests that talk to real rclpy nodes: waits that poll a condition with a deadline.
+
+No test sleeps for a fixed time: it spins an executor until a predicate holds or a deadline passes,
+and the failure message says what was being waited for.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from rclpy.executors import Executor
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def spin_until(
+    executor: Executor,
+    predicate: Callable[[], bool],
+    timeout: float,
+    what: str = "condition",
+    step: float = 0.02,
+) -> None:
+    """Spin ``executor`` until ``predicate()`` is true; fail after ``timeout`` seconds (wall clock)."""
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
+        executor.spin_once(timeout_sec=step)
+
+
+def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condition",
+               step: float = 0.02) -> None:
+    """Poll ``predicate()`` (without spinning) until true; fail after ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
+        time.sleep(step)
+
+
+def start_python(
+    module_or_script: str | Path, args: Iterable[str] = (), **kwargs: object
+) -> subprocess.Popen[str]:
+    """Start ``python -m module`` (or a script path) in a child process with the test's ROS env.
+
+    The child inherits ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE from conftest; its stdout
+    and stderr are captured as text so a failing test can show them.
+    """
+    target = str(module_or_script)
+    cmd = [sys.executable, target] if target.endswith(".py") else [sys.executable, "-m", target]
+    return subprocess.Popen(
+        [*cmd, *args],
+        cwd=REPO,
+        env=dict(os.environ),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        **kwargs,  # type: ignore[arg-type]
+    )
+
+
+def stop_process(proc: subprocess.Popen[str], timeout: float = 10.0) -> str:
+    """Interrupt a child (SIGINT, then SIGKILL after ``timeout``) and return its output."""
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+    out = proc.stdout.read() if proc.stdout else ""
+    return out
