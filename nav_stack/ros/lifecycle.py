@@ -1,0 +1,115 @@
+"""The base of every Nav2-named server: a lifecycle node that also keeps a bond with its manager.
+
+Nav2's servers (map_server, amcl, planner_server, ...) are lifecycle nodes: a lifecycle manager
+configures and activates them in order, and each active node heartbeats a bond on /bond so the
+manager (and SMACC2's CbWaitNav2Nodes) can tell it is alive. This base gives subclasses four hooks
+(``configure``, ``activate``, ``deactivate``, ``cleanup``) that may raise; an exception becomes a
+logged FAILURE of the transition (the node keeps serving its lifecycle services) instead of a crash.
+"""
+
+from __future__ import annotations
+
+import uuid
+
+from bond.msg import Status
+from rclpy.clock import Clock, ClockType
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+BOND_TOPIC = "/bond"
+BOND_HEARTBEAT_PERIOD = 0.1  # s, as nav2_util::LifecycleNode::createBond sets it
+BOND_HEARTBEAT_TIMEOUT = 4.0  # s, Nav2's default bond_timeout
+BOND_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+class NavLifecycleNode(LifecycleNode):
+    """A lifecycle node with Nav2's bond heartbeat and exception-safe transition hooks.
+
+    Subclasses override ``configure``/``activate``/``deactivate``/``cleanup`` (no return value;
+    raise to fail the transition with a logged reason).
+    """
+
+    def __init__(self, node_name: str, **kwargs: object) -> None:
+        super().__init__(node_name, **kwargs)  # type: ignore[arg-type]
+        self._bond_pub = self.create_publisher(Status, BOND_TOPIC, BOND_QOS)
+        self._bond_instance = str(uuid.uuid4())
+        self._bond_timer = None
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+
+    # -- hooks for subclasses ------------------------------------------------------------------
+    def configure(self) -> None:
+        """Declare and read parameters, create publishers, services and the core objects."""
+
+    def activate(self) -> None:
+        """Start working: timers, subscriptions that drive the core, action servers' acceptance."""
+
+    def deactivate(self) -> None:
+        """Stop producing output; keep configuration."""
+
+    def cleanup(self) -> None:
+        """Release what ``configure`` created."""
+
+    # -- rclpy lifecycle callbacks -------------------------------------------------------------
+    def _run(self, name: str, hook: object) -> TransitionCallbackReturn:
+        try:
+            hook()  # type: ignore[operator]
+        except Exception as error:  # noqa: BLE001 - any failure must fail the transition, not the node
+            self.get_logger().error(f"{name} failed: {error}")
+            return TransitionCallbackReturn.FAILURE
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().info("Configuring")
+        return self._run("configure", self.configure)
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().info("Activating")
+        result = self._run("activate", self.activate)
+        if result == TransitionCallbackReturn.SUCCESS:
+            super().on_activate(state)  # activates LifecyclePublishers
+            self._start_bond()
+        return result
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().info("Deactivating")
+        self._stop_bond()
+        super().on_deactivate(state)
+        return self._run("deactivate", self.deactivate)
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().info("Cleaning up")
+        return self._run("cleanup", self.cleanup)
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().info("Shutting down")
+        self._stop_bond()
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.get_logger().error(f"Lifecycle error while in state {state.label}")
+        self._stop_bond()
+        return TransitionCallbackReturn.SUCCESS
+
+    # -- bond ------------------------------------------------------------------------------------
+    def _bond_status(self, active: bool) -> Status:
+        msg = Status()
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.id = self.get_name()
+        msg.instance_id = self._bond_instance
+        msg.active = active
+        msg.heartbeat_timeout = BOND_HEARTBEAT_TIMEOUT
+        msg.heartbeat_period = BOND_HEARTBEAT_PERIOD
+        return msg
+
+    def _start_bond(self) -> None:
+        if self._bond_timer is None:
+            self._bond_timer = self.create_timer(
+                BOND_HEARTBEAT_PERIOD, lambda: self._bond_pub.publish(self._bond_status(True)),
+                clock=self._steady,
+            )
+
+    def _stop_bond(self) -> None:
+        if self._bond_timer is not None:
+            self.destroy_timer(self._bond_timer)
+            self._bond_timer = None
+            self._bond_pub.publish(self._bond_status(False))

@@ -1,0 +1,74 @@
+"""Bind a core's frozen parameter dataclass to ROS parameters with Nav2's names.
+
+Each core keeps its parameters in one frozen dataclass whose field names and defaults follow Nav2.
+A node declares every field as a ROS parameter (optionally under a prefix such as
+``"FollowPath."``), so values come from a ``ros__parameters`` YAML file or ``--ros-args -p``, and
+builds the dataclass from the result. An invalid value fails with a message that names the node,
+the parameter and the value.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import typing
+from typing import Any, TypeVar
+
+from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.node import Node
+
+T = TypeVar("T")
+
+
+def _ros_default(value: Any) -> Any:
+    """ROS parameters hold scalars, strings and homogeneous lists; tuples become lists."""
+    if isinstance(value, tuple):
+        return [_ros_default(v) for v in value]
+    return value
+
+
+def _coerce(value: Any, annotation: Any) -> Any:
+    """Convert a ROS parameter value back to the dataclass field's type (lists → tuples, int → float)."""
+    origin = typing.get_origin(annotation)
+    if annotation is float and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if origin is tuple and isinstance(value, list | tuple):
+        args = typing.get_args(annotation)
+        inner = args[0] if args else Any
+        if inner is tuple or typing.get_origin(inner) is tuple:  # e.g. a footprint of (x, y) points
+            return tuple(tuple(v) for v in value)
+        return tuple(_coerce(v, inner) for v in value)
+    return value
+
+
+def declare_dataclass(node: Node, cls: type[T], prefix: str = "", **overrides: Any) -> T:
+    """Declare every field of ``cls`` as ``<prefix><field>`` on ``node`` and build an instance.
+
+    ``overrides`` replace a field's default (not a value set by the user). Raises ValueError naming
+    the node, parameter and value when the dataclass rejects a value.
+    """
+    hints = typing.get_type_hints(cls)
+    values: dict[str, Any] = {}
+    for field in dataclasses.fields(cls):  # type: ignore[arg-type]
+        if not field.init:
+            continue
+        if field.name in overrides:
+            default = overrides[field.name]
+        elif field.default is not dataclasses.MISSING:
+            default = field.default
+        elif field.default_factory is not dataclasses.MISSING:
+            default = field.default_factory()
+        else:
+            raise TypeError(f"{cls.__name__}.{field.name} needs a default to be a ROS parameter")
+        name = prefix + field.name
+        if not node.has_parameter(name):
+            ros_default = _ros_default(default)
+            if ros_default is None or ros_default == []:  # no type to infer: let the YAML decide it
+                node.declare_parameter(name, ros_default, ParameterDescriptor(dynamic_typing=True))
+            else:
+                node.declare_parameter(name, ros_default)
+        values[field.name] = _coerce(node.get_parameter(name).value, hints.get(field.name, Any))
+    try:
+        return cls(**values)
+    except (TypeError, ValueError) as error:
+        shown = ", ".join(f"{prefix}{k}={v!r}" for k, v in values.items())
+        raise ValueError(f"{node.get_name()}: invalid parameters for {cls.__name__}: {error} ({shown})") from error
