@@ -99,7 +99,9 @@ def occupancy_msg(data: np.ndarray, spec: GridSpec, frame: str, stamp: object) -
     return msg
 
 
-def costmap_msg(costs: np.ndarray, spec: GridSpec, frame: str, stamp: object, layer: str = "master") -> Costmap:
+def costmap_msg(
+    costs: np.ndarray, spec: GridSpec, frame: str, stamp: object, layer: str = "master"
+) -> Costmap:
     """nav2_msgs/Costmap (raw 0..255 costs) of a uint8 grid."""
     msg = Costmap()
     msg.header.frame_id = frame
@@ -117,7 +119,7 @@ def costmap_msg(costs: np.ndarray, spec: GridSpec, frame: str, stamp: object, la
 def duration_msg(seconds: float) -> DurationMsg:
     seconds = max(0.0, float(seconds))
     whole = int(seconds)
-    return DurationMsg(sec=whole, nanosec=int(round((seconds - whole) * 1e9)) % 1_000_000_000)
+    return DurationMsg(sec=whole, nanosec=round((seconds - whole) * 1e9) % 1_000_000_000)
 
 
 def duration_to_seconds(msg: DurationMsg) -> float:

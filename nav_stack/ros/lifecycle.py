@@ -53,7 +53,7 @@ class NavLifecycleNode(LifecycleNode):
     def _run(self, name: str, hook: object) -> TransitionCallbackReturn:
         try:
             hook()  # type: ignore[operator]
-        except Exception as error:  # noqa: BLE001 - any failure must fail the transition, not the node
+        except Exception as error:  # any failure must fail the transition, not kill the node
             self.get_logger().error(f"{name} failed: {error}")
             return TransitionCallbackReturn.FAILURE
         return TransitionCallbackReturn.SUCCESS

@@ -71,4 +71,6 @@ def declare_dataclass(node: Node, cls: type[T], prefix: str = "", **overrides: A
         return cls(**values)
     except (TypeError, ValueError) as error:
         shown = ", ".join(f"{prefix}{k}={v!r}" for k, v in values.items())
-        raise ValueError(f"{node.get_name()}: invalid parameters for {cls.__name__}: {error} ({shown})") from error
+        raise ValueError(
+            f"{node.get_name()}: invalid parameters for {cls.__name__}: {error} ({shown})"
+        ) from error

@@ -93,7 +93,7 @@ def interpolate(a: Transform, b: Transform, ratio: float) -> Transform:
         sin_theta = math.sin(theta)
         wa = math.sin((1.0 - ratio) * theta) / sin_theta
         wb = math.sin(ratio * theta) / sin_theta
-    q = [wa * qa + wb * qb for qa, qb in zip((a.qx, a.qy, a.qz, a.qw), bq)]
+    q = [wa * qa + wb * qb for qa, qb in zip((a.qx, a.qy, a.qz, a.qw), bq, strict=True)]
     norm = math.sqrt(sum(c * c for c in q)) or 1.0
     return Transform(
         a.x + (b.x - a.x) * ratio,
