@@ -1,0 +1,197 @@
+"""A small process supervisor in place of `ros2 launch` (which pip does not provide).
+
+Why: the seeds start the simulator, the stack and the state machine in separate terminals. A
+launcher does it in one command: processes start in dependency order, each waits until the
+previous one printed its readiness line, every output line is prefixed with the process name, the
+launch stops with a clear error and a non-zero exit as soon as a process dies, and Ctrl-C (SIGINT
+or SIGTERM) shuts everything down in reverse order without leaving orphans: children get SIGTERM
+from the kernel if the launcher itself is killed (PR_SET_PDEATHSIG).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+_COLORS = ["\033[36m", "\033[33m", "\033[35m", "\033[32m", "\033[34m", "\033[31m"]
+_RESET = "\033[0m"
+_PR_SET_PDEATHSIG = 1
+
+
+class LaunchError(RuntimeError):
+    """A process failed to start, to become ready, or died while the launch was running."""
+
+
+@dataclass
+class ProcessSpec:
+    """One process of a launch.
+
+    Attributes:
+        name: prefix of its output lines and name in error messages.
+        cmd: the command line.
+        ready: a regex; the process is ready once one of its output lines matches.
+            None means ready as soon as it started.
+        ready_timeout: seconds (wall clock) to wait for readiness.
+        env: extra environment variables.
+        required: when a required process exits (even with code 0), the launch ends.
+    """
+
+    name: str
+    cmd: Sequence[str]
+    ready: str | None = None
+    ready_timeout: float = 60.0
+    env: dict[str, str] = field(default_factory=dict)
+    required: bool = True
+
+
+def _die_with_parent() -> None:
+    """Runs in the child before exec: ask the kernel for SIGTERM when the launcher dies."""
+    with contextlib.suppress(OSError):
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+
+
+class _Running:
+    def __init__(self, spec: ProcessSpec, color: str, out: Callable[[str], None]) -> None:
+        self.spec = spec
+        self.ready = threading.Event() if spec.ready else None
+        self._pattern = re.compile(spec.ready) if spec.ready else None
+        env = dict(os.environ, PYTHONUNBUFFERED="1", **spec.env)
+        env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        self.proc = subprocess.Popen(
+            list(spec.cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+            start_new_session=True, preexec_fn=_die_with_parent, bufsize=1,
+        )
+        prefix = f"{color}[{spec.name}]{_RESET} " if color else f"[{spec.name}] "
+        self._reader = threading.Thread(target=self._pump, args=(prefix, out), daemon=True)
+        self._reader.start()
+
+    def _pump(self, prefix: str, out: Callable[[str], None]) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            out(prefix + line.rstrip("\n"))
+            if self.ready is not None and not self.ready.is_set() and self._pattern.search(line):  # type: ignore[union-attr]
+                self.ready.set()
+
+    def signal(self, sig: int) -> None:
+        if self.proc.poll() is None:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(self.proc.pid, sig)
+
+
+class Launcher:
+    """Starts ProcessSpecs in order and supervises them until one ends or the user interrupts."""
+
+    def __init__(self, output: Callable[[str], None] | None = None, color: bool | None = None,
+                 shutdown_grace: float = 10.0) -> None:
+        self._lock = threading.Lock()
+        self._output = output or self._print
+        self._color = sys.stdout.isatty() if color is None else color
+        self._grace = shutdown_grace
+        self.running: list[_Running] = []
+        self._stop = threading.Event()
+
+    def _print(self, line: str) -> None:
+        with self._lock:
+            print(line, flush=True)
+
+    def log(self, text: str) -> None:
+        self._output(f"[launch] {text}")
+
+    def start(self, specs: Sequence[ProcessSpec]) -> None:
+        """Start each process and wait for its readiness line before starting the next."""
+        for index, spec in enumerate(specs):
+            color = _COLORS[index % len(_COLORS)] if self._color else ""
+            self.log(f"starting {spec.name}: {' '.join(spec.cmd)}")
+            try:
+                running = _Running(spec, color, self._output)
+            except OSError as error:
+                raise LaunchError(f"cannot start {spec.name} ({spec.cmd[0]}): {error}") from error
+            self.running.append(running)
+            if running.ready is None:
+                continue
+            deadline = time.monotonic() + spec.ready_timeout
+            while not running.ready.wait(0.1):
+                code = running.proc.poll()
+                if code is not None:
+                    raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
+                if self._stop.is_set():
+                    raise LaunchError("interrupted during startup")
+                if time.monotonic() > deadline:
+                    raise LaunchError(
+                        f"{spec.name} was not ready after {spec.ready_timeout:.0f} s "
+                        f"(waited for a line matching '{spec.ready}')"
+                    )
+            self.log(f"{spec.name} is ready")
+
+    def wait(self, until: Callable[[], bool] | None = None, poll: float = 0.1) -> int:
+        """Supervise until a required process exits, ``until()`` is true or stop() is called.
+
+        Returns 0 when stopped by ``until``/stop() or when every process exited with 0; otherwise
+        the exit code of the first required process that ended, after logging which one it was.
+        """
+        while not self._stop.is_set():
+            if until is not None and until():
+                return 0
+            for running in self.running:
+                code = running.proc.poll()
+                if code is not None and running.spec.required:
+                    if code == 0:
+                        self.log(f"{running.spec.name} finished")
+                        return 0
+                    self.log(f"ERROR: {running.spec.name} died with exit code {code}; stopping the launch")
+                    return code if code > 0 else 1
+            time.sleep(poll)
+        return 0
+
+    def stop(self) -> None:
+        """Ask ``wait`` to return (safe from signal handlers and other threads)."""
+        self._stop.set()
+
+    def shutdown(self) -> None:
+        """Stop every process in reverse start order: SIGINT, then SIGTERM, then SIGKILL."""
+        for sig, grace in ((signal.SIGINT, self._grace), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
+            alive = [r for r in reversed(self.running) if r.proc.poll() is None]
+            if not alive:
+                break
+            for running in alive:
+                running.signal(sig)
+            deadline = time.monotonic() + grace
+            while time.monotonic() < deadline and any(r.proc.poll() is None for r in alive):
+                time.sleep(0.05)
+        for running in self.running:
+            running.proc.wait()
+
+    def run(self, specs: Sequence[ProcessSpec], until: Callable[[], bool] | None = None) -> int:
+        """Start, supervise and shut down; handles SIGINT/SIGTERM. Returns the launch's exit code."""
+        previous = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+        interrupted = threading.Event()
+
+        def on_signal(signum: int, frame: object) -> None:
+            interrupted.set()
+            self.stop()
+
+        for sig in previous:
+            signal.signal(sig, on_signal)
+        try:
+            self.start(specs)
+            code = self.wait(until)
+        except LaunchError as error:
+            self.log(f"ERROR: {error}")
+            code = 130 if interrupted.is_set() else 1
+        finally:
+            self.log("shutting down")
+            self.shutdown()
+            for sig, handler in previous.items():
+                signal.signal(sig, handler)
+        if interrupted.is_set():
+            return 130 if code == 0 else code
+        return code

@@ -1,0 +1,84 @@
+"""The launcher starts in order with readiness, prefixes output, fails loudly and leaves no orphans."""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+
+import pytest
+
+from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+
+PY = sys.executable
+
+
+def script(body: str) -> list[str]:
+    return [PY, "-u", "-c", body]
+
+
+def collect() -> tuple[list[str], Launcher]:
+    lines: list[str] = []
+    return lines, Launcher(output=lines.append, color=False, shutdown_grace=2.0)
+
+
+def test_starts_in_order_after_readiness_and_prefixes_lines():
+    lines, launcher = collect()
+    specs = [
+        ProcessSpec("first", script("print('warming up'); print('first ready'); import time; time.sleep(30)"),
+                    ready="first ready"),
+        ProcessSpec("second", script("print('hello from second')"), ready="hello"),
+    ]
+    assert launcher.run(specs) == 0  # 'second' is required and finished with 0
+    started = [line for line in lines if line.startswith("[launch] starting")]
+    assert [s.split()[2].rstrip(":") for s in started] == ["first", "second"]
+    second_started = "[launch] starting second: " + " ".join(specs[1].cmd)
+    assert lines.index("[first] first ready") < lines.index(second_started)
+    assert "[second] hello from second" in lines
+
+
+def test_a_dying_process_stops_the_launch_with_its_exit_code():
+    lines, launcher = collect()
+    specs = [
+        ProcessSpec("sleeper", script("print('ready'); import time; time.sleep(60)"), ready="ready"),
+        ProcessSpec("crasher", script("import sys; print('ready'); sys.exit(3)"), ready="ready"),
+    ]
+    code = launcher.run(specs)
+    assert code == 3
+    assert any("ERROR: crasher died with exit code 3" in line for line in lines)
+    assert all(r.proc.poll() is not None for r in launcher.running), "a process was left running"
+
+
+def test_readiness_timeout_and_early_exit_are_reported():
+    lines, launcher = collect()
+    spec = ProcessSpec("mute", script("import time; time.sleep(60)"), ready="never", ready_timeout=0.5)
+    assert launcher.run([spec]) == 1
+    assert any("mute was not ready after" in line and "'never'" in line for line in lines)
+    lines2, launcher2 = collect()
+    assert launcher2.run([ProcessSpec("quitter", script("import sys; sys.exit(5)"), ready="x")]) == 1
+    assert any("quitter exited with code 5 before it was ready" in line for line in lines2)
+
+
+def test_missing_executable_is_a_launch_error():
+    _, launcher = collect()
+    with pytest.raises(LaunchError, match="cannot start ghost"):
+        launcher.start([ProcessSpec("ghost", ["/nonexistent/ghost-binary"])])
+
+
+def test_stop_shuts_everything_down_and_children_of_children_too():
+    lines, launcher = collect()
+    # The child starts a grandchild in the same process group; shutdown must end both.
+    body = ("import subprocess, sys, time; p = subprocess.Popen([sys.executable, '-c', "
+            "'import time; time.sleep(60)']); print('pid', p.pid, flush=True); print('ready'); "
+            "time.sleep(60)")
+    timer = threading.Timer(1.0, launcher.stop)
+    timer.start()
+    try:
+        assert launcher.run([ProcessSpec("parent", script(body), ready="ready")]) == 0
+    finally:
+        timer.cancel()
+    grandchild = int(next(line for line in lines if line.startswith("[parent] pid")).split()[-1])
+    with pytest.raises(ProcessLookupError):
+        for _ in range(100):  # the grandchild may take a moment to be reaped by init
+            os.kill(grandchild, 0)
+            threading.Event().wait(0.05)
