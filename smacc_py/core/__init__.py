@@ -1,0 +1,82 @@
+"""The smacc_py core engine: SMACC2's state-machine model in pure Python (stdlib only, no ROS).
+
+Import the public API from here::
+
+    from smacc_py.core import (SmaccStateMachineBase, SmaccState, Transition, SUCCESS, ABORT,
+                               Orthogonal, ISmaccClient, SmaccClientBehavior, EvCbSuccess)
+
+Modules: ``events`` (parameterised event classes), ``tags``, ``transition`` (``Transition``,
+``History``), ``state`` (``SmaccState`` declarations), ``model`` (compile + validate), ``state_machine``
+(queue and dispatch), ``lifecycle`` (entry/exit order), ``orthogonal``, ``client`` (clients, components),
+``client_behavior`` (sync/async behaviors), ``reactors``, ``event_generators``, ``updatable``,
+``global_data``, ``observer``, ``introspection`` (smacc2_msgs-shaped description), ``graph_export``
+(Mermaid/DOT), ``params``, ``errors``.
+"""
+
+from smacc_py.core.client import ISmaccClient, ISmaccComponent
+from smacc_py.core.client_behavior import ISmaccClientBehavior, SmaccAsyncClientBehavior, SmaccClientBehavior
+from smacc_py.core.errors import InvalidDefinitionError, SmaccError, SmaccLookupError
+from smacc_py.core.event_generators import (
+    ConditionalGeneratorMode,
+    EgConditionalGenerator,
+    SmaccEventGenerator,
+)
+from smacc_py.core.events import (
+    EvActionAborted,
+    EvActionCancelled,
+    EvActionFeedback,
+    EvActionResult,
+    EvActionSucceeded,
+    EvAllGo,
+    EvCbFailure,
+    EvCbFinished,
+    EvCbSuccess,
+    EvConditionalTrue,
+    EvCountdownEnd,
+    EvFalse,
+    EvGoalWaypointReached,
+    EvKeyPress,
+    EvLoopContinue,
+    EvLoopEnd,
+    EvSequenceFinished,
+    EvServiceFailure,
+    EvServiceResponse,
+    EvStateRequestFinish,
+    EvTimer,
+    EvTopicInitialMessage,
+    EvTopicMessage,
+    EvTrue,
+    EvWaypoint,
+    EvWaypointFinal,
+    SmaccEvent,
+    key_press_event,
+    waypoint_event,
+)
+from smacc_py.core.graph_export import to_dot, to_mermaid
+from smacc_py.core.introspection import StateMachineDescription, describe_state_machine
+from smacc_py.core.observer import SmaccObserver, TransitionRecord
+from smacc_py.core.orthogonal import Orthogonal
+from smacc_py.core.params import SmaccEngineParams
+from smacc_py.core.reactors import SrAllEventsGo, SrConditional, SrEventCountdown, StateReactor
+from smacc_py.core.state import SmaccState
+from smacc_py.core.state_machine import SmaccStateMachineBase
+from smacc_py.core.tags import ABORT, CANCEL, CONTINUELOOP, DEFAULT, ENDLOOP, SUCCESS, TransitionTag
+from smacc_py.core.transition import History, Transition, deep_history
+from smacc_py.core.updatable import ISmaccUpdatable
+
+__all__ = [
+    "ABORT", "CANCEL", "CONTINUELOOP", "DEFAULT", "ENDLOOP", "SUCCESS",
+    "ConditionalGeneratorMode", "EgConditionalGenerator",
+    "EvActionAborted", "EvActionCancelled", "EvActionFeedback", "EvActionResult", "EvActionSucceeded",
+    "EvAllGo", "EvCbFailure", "EvCbFinished", "EvCbSuccess", "EvConditionalTrue", "EvCountdownEnd",
+    "EvFalse", "EvGoalWaypointReached", "EvKeyPress", "EvLoopContinue", "EvLoopEnd",
+    "EvSequenceFinished", "EvServiceFailure", "EvServiceResponse", "EvStateRequestFinish", "EvTimer",
+    "EvTopicInitialMessage", "EvTopicMessage", "EvTrue", "EvWaypoint", "EvWaypointFinal",
+    "History", "ISmaccClient", "ISmaccClientBehavior", "ISmaccComponent", "ISmaccUpdatable",
+    "InvalidDefinitionError", "Orthogonal", "SmaccAsyncClientBehavior", "SmaccClientBehavior",
+    "SmaccEngineParams", "SmaccError", "SmaccEvent", "SmaccEventGenerator", "SmaccLookupError",
+    "SmaccObserver", "SmaccState", "SmaccStateMachineBase", "SrAllEventsGo", "SrConditional",
+    "SrEventCountdown", "StateMachineDescription", "StateReactor", "Transition", "TransitionRecord",
+    "TransitionTag", "deep_history", "describe_state_machine", "key_press_event", "to_dot", "to_mermaid",
+    "waypoint_event",
+]

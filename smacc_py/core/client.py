@@ -1,0 +1,101 @@
+"""Clients and components: SM-lifetime proxies to the outside world (action, topic, timer ...).
+
+A client is created by its orthogonal (``Orthogonal.on_initialize`` → ``create_client``) and lives as long
+as the machine; it owns components (``client.create_component``), reusable pieces that behaviors fetch
+with ``requires_component``. The core classes know nothing about ROS: the ROS layer subclasses them.
+``on_initialize`` of every client, then of every component, runs after all orthogonals exist, so a
+component may look up components of other clients.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, TypeVar
+
+from smacc_py.core.errors import SmaccLookupError
+from smacc_py.core.events import SmaccEvent
+
+if TYPE_CHECKING:
+    from smacc_py.core.orthogonal import Orthogonal
+    from smacc_py.core.state_machine import SmaccStateMachineBase
+
+C = TypeVar("C")
+
+
+class ISmaccClient:
+    """Base of every client. Subclasses override ``on_initialize`` and post events with ``post_event``."""
+
+    orthogonal: Orthogonal
+    sm: SmaccStateMachineBase
+    components: list[ISmaccComponent]
+
+    def _attach(self, orthogonal: Orthogonal) -> None:
+        self.orthogonal = orthogonal
+        self.sm = orthogonal.sm
+        self.components = []
+
+    def on_initialize(self) -> None:
+        """Called once after every orthogonal and client exists (create publishers, wire signals)."""
+
+    def create_component(self, component_type: type[C], *args: Any, **kwargs: Any) -> C:
+        """Construct a component owned by this client; its ``on_initialize`` runs at machine init."""
+        component = component_type(*args, **kwargs)
+        if not isinstance(component, ISmaccComponent):
+            raise TypeError(f"{component_type.__name__} is not an ISmaccComponent")
+        component._attach(self)
+        self.components.append(component)
+        if self.sm.is_initialized:
+            component.on_initialize()
+        return component
+
+    def get_component(self, component_type: type[C]) -> C | None:
+        """The first component of this client that is an instance of ``component_type``, or None."""
+        for component in self.components:
+            if isinstance(component, component_type):
+                return component
+        return None
+
+    def own_event(self, template: type[SmaccEvent]) -> type[SmaccEvent]:
+        """``template[ThisClient, ThisOrthogonal]``, the event SMACC2 clients post about themselves."""
+        return template[type(self), type(self.orthogonal)]
+
+    def post_event(self, event: SmaccEvent | type[SmaccEvent]) -> None:
+        """Post an event with ABSOLUTE lifetime (clients outlive states)."""
+        self.sm.post_event(event)
+
+
+class ISmaccComponent:
+    """Base of every component; owned by one client."""
+
+    owner: ISmaccClient
+    sm: SmaccStateMachineBase
+
+    def _attach(self, owner: ISmaccClient) -> None:
+        self.owner = owner
+        self.sm = owner.sm
+
+    def on_initialize(self) -> None:
+        """Called once after all clients are initialised."""
+
+    def requires_component(self, component_type: type[C]) -> C:
+        """A component of the same client first, then of any client; SmaccLookupError when absent."""
+        found = self.owner.get_component(component_type)
+        if found is not None:
+            return found
+        return self.sm.requires_component(component_type, who=type(self).__name__)
+
+    def requires_client(self, client_type: type[C]) -> C:
+        """A client of any orthogonal; SmaccLookupError when absent."""
+        return self.sm.requires_client(client_type, who=type(self).__name__)
+
+    def create_sibling_component(self, component_type: type[C], *args: Any, **kwargs: Any) -> C:
+        """Create another component on the same client."""
+        return self.owner.create_component(component_type, *args, **kwargs)
+
+    def post_event(self, event: SmaccEvent | type[SmaccEvent]) -> None:
+        """Post an event with ABSOLUTE lifetime."""
+        self.sm.post_event(event)
+
+
+def missing(kind: str, wanted: type, who: str, where: str) -> SmaccLookupError:
+    """A SmaccLookupError whose message names what was wanted, who asked and where it looked."""
+    return SmaccLookupError(f"{who}: no {kind} of type {wanted.__name__} in {where}")

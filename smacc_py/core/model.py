@@ -1,0 +1,258 @@
+"""Compiles a machine class's declarations into a validated, precomputed model.
+
+Everything the engine needs at runtime that depends only on declarations is computed here once per
+machine class: the state tree (parents, levels, children, inner initial states); every transition's
+resolved target and event (state names among event parameters, e.g. ``EvLoopEnd["StLoop"]``, are
+forward references too, in transitions and in reactor declarations); the states a transition exits
+(``keep_depth``: how many outer states stay active) and enters (``entry_path``); the tag-specific exit
+hook; and per-(leaf state, event class) dispatch tables (innermost state first, declaration order),
+built lazily and cached. The same model feeds introspection and graph export, so what is drawn is
+what runs.
+
+Definition errors found here (unknown target names, history of a non-superstate, unreachable declared
+states, superstates without an inner initial state, states claimed by another machine) raise
+``InvalidDefinitionError`` naming the class at fault; the machine compiles on first instantiation,
+``validate()`` or ``describe_state_machine()``.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+from smacc_py.core.errors import InvalidDefinitionError
+from smacc_py.core.events import SmaccEvent
+from smacc_py.core.state import ReactorConfig, SmaccState, declared_children
+from smacc_py.core.tags import TransitionTag
+from smacc_py.core.transition import Guard, History, Transition
+
+
+@dataclass(frozen=True, slots=True)
+class TransitionPlan:
+    """A transition with everything resolved that the engine needs to execute it."""
+
+    source: type[SmaccState]
+    source_level: int
+    index: int
+    transition: Transition
+    event: type[SmaccEvent]
+    target: type[SmaccState]
+    tag: type[TransitionTag]
+    guard: Guard | None
+    history: bool
+    keep_depth: int
+    entry_path: tuple[type[SmaccState], ...]
+    tag_hook: Callable[[SmaccState], None] | None
+
+
+@dataclass(frozen=True, slots=True)
+class StateInfo:
+    """Position of a state in the tree; ``level`` 0 is top level (``SmaccState.level`` in smacc2_msgs)."""
+
+    index: int
+    state: type[SmaccState]
+    parent: type[SmaccState] | None
+    level: int
+    children: tuple[type[SmaccState], ...]
+    inner_initial: type[SmaccState] | None
+
+
+class MachineModel:
+    """The compiled, validated form of one machine class."""
+
+    def __init__(self, sm_type: type) -> None:
+        self.sm_type = sm_type
+        self._names = self._declared_names()
+        initial_ref = getattr(sm_type, "initial_state", None)
+        if initial_ref is None:
+            raise InvalidDefinitionError(f"{sm_type.__name__}: no initial_state declared")
+        self.initial = self._resolve(initial_ref, sm_type, f"{sm_type.__name__}.initial_state")
+        self._parents: dict[type[SmaccState], type[SmaccState] | None] = {}
+        self._inner: dict[type[SmaccState], type[SmaccState] | None] = {}
+        self._targets: dict[tuple[type[SmaccState], int], tuple[type[SmaccState], bool]] = {}
+        self._discover()
+        self.chains = {cls: self._chain(cls) for cls in self._parents}
+        self.superstates = frozenset(cls for cls, inner in self._inner.items() if inner is not None)
+        children: dict[type[SmaccState], list[type[SmaccState]]] = {cls: [] for cls in self._parents}
+        for cls, parent in self._parents.items():
+            if parent is not None:
+                children[parent].append(cls)
+        self.states: dict[type[SmaccState], StateInfo] = {
+            cls: StateInfo(i, cls, self._parents[cls], len(self.chains[cls]) - 1, tuple(children[cls]),
+                           self._inner[cls])
+            for i, cls in enumerate(self._parents)
+        }
+        self.plans: dict[type[SmaccState], tuple[TransitionPlan, ...]] = {
+            cls: tuple(self._plan(cls, i, tr) for i, tr in enumerate(cls.reactions)) for cls in self._parents
+        }
+        self.reactors: dict[type[SmaccState], tuple[ReactorConfig, ...]] = {
+            cls: tuple(self._resolve_reactor(cls, cfg) for cfg in cls.reactor_configs)
+            for cls in self._parents
+        }
+        self.initial_path = self.chains[self.initial] + self._descent(self.initial)
+        self._tables: dict[type[SmaccState], dict[type[SmaccEvent], tuple[TransitionPlan, ...]]] = {}
+
+    # ------------------------------------------------------------------ discovery and validation
+    def _declared_names(self) -> dict[str, type[SmaccState]]:
+        names: dict[str, type[SmaccState]] = {}
+        pending: list[type] = [self.sm_type]
+        while pending:
+            for child in declared_children(pending.pop()):
+                names.setdefault(child.__name__, child)
+                pending.append(child)
+        return names
+
+    def _resolve(self, ref: Any, owner: type, where: str) -> type[SmaccState]:
+        if isinstance(ref, str):
+            found = self._names.get(ref)
+            if found is None:
+                module = sys.modules.get(owner.__module__)
+                found = getattr(module, ref, None) if module is not None else None
+            if found is None:
+                known = ", ".join(sorted(self._names)) or "none declared with parent="
+                raise InvalidDefinitionError(
+                    f"{where}: unknown state {ref!r} (states of {self.sm_type.__name__}: {known})"
+                )
+            ref = found
+        if not (isinstance(ref, type) and issubclass(ref, SmaccState)) or ref is SmaccState:
+            raise InvalidDefinitionError(f"{where}: {ref!r} is not a SmaccState subclass")
+        return ref
+
+    def _discover(self) -> None:
+        pending = [self.initial]
+        while pending:
+            cls = pending.pop(0)
+            if cls in self._parents:
+                continue
+            decl = cls.parent_decl
+            if decl is not None and not issubclass(decl, SmaccState) and decl is not self.sm_type:
+                raise InvalidDefinitionError(
+                    f"{cls.__name__} belongs to {decl.__name__} (parent=) but is reached from "
+                    f"{self.sm_type.__name__}"
+                )
+            parent = decl if decl is not None and issubclass(decl, SmaccState) else None
+            self._parents[cls] = parent
+            if parent is not None:
+                pending.append(parent)
+            inner_ref = cls.inner_initial_state
+            inner = (None if inner_ref is None
+                     else self._resolve(inner_ref, cls, f"{cls.__name__}.inner_initial_state"))
+            if inner is None and declared_children(cls):
+                names = ", ".join(c.__name__ for c in declared_children(cls))
+                raise InvalidDefinitionError(
+                    f"{cls.__name__} has inner states ({names}) but declares no inner_initial_state"
+                )
+            if inner is not None and inner.parent_decl is not cls:
+                raise InvalidDefinitionError(
+                    f"{cls.__name__}.inner_initial_state {inner.__name__} must declare parent={cls.__name__}"
+                )
+            self._inner[cls] = inner
+            if inner is not None:
+                pending.append(inner)
+            for i, tr in enumerate(cls.reactions):
+                where = f"{cls.__name__}.reactions[{i}] {tr!r}"
+                history = isinstance(tr.target, History)
+                ref = tr.target.state if isinstance(tr.target, History) else tr.target
+                target = self._resolve(ref, cls, where)
+                if history and target.inner_initial_state is None:
+                    raise InvalidDefinitionError(
+                        f"{where}: History() needs a superstate, {target.__name__} has no inner states"
+                    )
+                self._targets[(cls, i)] = (target, history)
+                pending.append(target)
+        unreachable = [cls.__name__ for cls in self._names.values() if cls not in self._parents]
+        if unreachable:
+            raise InvalidDefinitionError(
+                f"{self.sm_type.__name__}: state(s) {', '.join(unreachable)} are declared but unreachable "
+                f"from the initial state {self.initial.__name__} (no transition or inner_initial_state "
+                "leads there)"
+            )
+
+    def _chain(self, cls: type[SmaccState]) -> tuple[type[SmaccState], ...]:
+        chain: list[type[SmaccState]] = []
+        node: type[SmaccState] | None = cls
+        while node is not None:
+            chain.append(node)
+            node = self._parents[node]
+        return tuple(reversed(chain))
+
+    def _descent(self, cls: type[SmaccState]) -> tuple[type[SmaccState], ...]:
+        path: list[type[SmaccState]] = []
+        inner = self._inner[cls]
+        while inner is not None:
+            path.append(inner)
+            inner = self._inner[inner]
+        return tuple(path)
+
+    def _resolve_event(self, event: type[SmaccEvent], owner: type[SmaccState],
+                       where: str) -> type[SmaccEvent]:
+        """Replace state names among an event's parameters (``EvLoopEnd["StLoop"]``) by the classes."""
+        if not any(isinstance(p, str) for p in event.params):
+            return event
+        params = tuple(self._resolve(p, owner, where) if isinstance(p, str) else p for p in event.params)
+        return event.template[params]
+
+    def _resolve_reactor(self, owner: type[SmaccState], cfg: ReactorConfig) -> ReactorConfig:
+        where = f"{owner.__name__}: reactor {cfg.reactor.__name__}"
+        output = self._resolve_event(cfg.output_event, owner, where)
+        inputs = tuple(self._resolve_event(ev, owner, where) for ev in cfg.input_events)
+        if output is cfg.output_event and inputs == cfg.input_events:
+            return cfg
+        return replace(cfg, output_event=output, input_events=inputs)
+
+    def _plan(self, source: type[SmaccState], index: int, tr: Transition) -> TransitionPlan:
+        target, history = self._targets[(source, index)]
+        event = self._resolve_event(tr.event, source, f"{source.__name__}.reactions[{index}] {tr!r}")
+        src_chain, dst_chain = self.chains[source], self.chains[target]
+        keep = 0
+        limit = min(len(src_chain), len(dst_chain)) - 1  # the common context is a *proper* ancestor of both
+        while keep < limit and src_chain[keep] is dst_chain[keep]:
+            keep += 1
+        return TransitionPlan(
+            source=source, source_level=len(src_chain) - 1, index=index, transition=tr, event=event,
+            target=target, tag=tr.tag, guard=tr.guard, history=history, keep_depth=keep,
+            entry_path=dst_chain[keep:] + self._descent(target), tag_hook=source.exit_hook(tr.tag),
+        )
+
+    # ------------------------------------------------------------------ runtime queries
+    def table_for(self, leaf: type[SmaccState]) -> dict[type[SmaccEvent], tuple[TransitionPlan, ...]]:
+        """The dispatch cache of an active leaf: event class → candidate plans, innermost first."""
+        table = self._tables.get(leaf)
+        if table is None:
+            table = self._tables[leaf] = {}
+        return table
+
+    def candidates(self, leaf: type[SmaccState], event_type: type[SmaccEvent]) -> tuple[TransitionPlan, ...]:
+        """Plans whose event matches ``event_type``: leaf's reactions first, then its ancestors'."""
+        return tuple(
+            plan
+            for cls in reversed(self.chains[leaf])
+            for plan in self.plans[cls]
+            if issubclass(event_type, plan.event)
+        )
+
+    def history_path(self, plan: TransitionPlan,
+                     last_leaf: type[SmaccState] | None) -> tuple[type[SmaccState], ...]:
+        """States to enter for a history transition: back down to ``last_leaf`` or the default path."""
+        if last_leaf is None:
+            return plan.entry_path
+        return self.chains[last_leaf][plan.keep_depth:]
+
+    def configured_orthogonals(self) -> dict[type, list[tuple[type[SmaccState], type]]]:
+        """Orthogonal type → [(state, behavior type)] over every state of the machine."""
+        used: dict[type, list[tuple[type[SmaccState], type]]] = {}
+        for cls in self.states:
+            for cfg in cls.behavior_configs:
+                used.setdefault(cfg.orthogonal, []).append((cls, cfg.behavior))
+        return used
+
+
+def compile_model(sm_type: type) -> MachineModel:
+    """The cached model of a machine class, compiling (and validating) it on first use."""
+    model = sm_type.__dict__.get("_smacc_model")
+    if not isinstance(model, MachineModel):
+        model = MachineModel(sm_type)
+        type.__setattr__(sm_type, "_smacc_model", model)
+    return model

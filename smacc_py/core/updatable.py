@@ -1,0 +1,34 @@
+"""``ISmaccUpdatable``: objects the runtime polls, like SMACC2's SignalDetector loop.
+
+The ROS runtime calls ``SmaccStateMachineBase.update()`` at ``signal_detector_loop_freq`` (20 Hz by
+default); every client, component, and every behavior, reactor and generator of the active states that
+mixes this class in gets ``update()`` called, at most once per its own ``update_period_s`` (s) measured on
+the machine's injected clock, so sim time works. ``None`` means "on every poll".
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class ISmaccUpdatable:
+    """Mix-in for objects with periodic work; override ``update()``."""
+
+    update_period_s: float | None = None
+    _last_update_s: float = -math.inf
+
+    def update(self) -> None:
+        """Periodic work. Runs on the polling thread; must not block."""
+
+    def set_update_period(self, period_s: float | None) -> None:
+        """Poll at most every ``period_s`` seconds (None: every poll). ValueError when not positive."""
+        if period_s is not None and not period_s > 0.0:
+            raise ValueError(f"{type(self).__name__}: update period must be > 0 s, got {period_s!r}")
+        self.update_period_s = period_s
+
+    def _update_due(self, now_s: float) -> bool:
+        period = self.update_period_s
+        if period is not None and now_s - self._last_update_s < period:
+            return False
+        self._last_update_s = now_s
+        return True
