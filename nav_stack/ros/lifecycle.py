@@ -15,6 +15,7 @@ from bond.msg import Status
 from rclpy.clock import Clock, ClockType
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.timer import Timer
 
 BOND_TOPIC = "/bond"
 BOND_HEARTBEAT_PERIOD = 0.1  # s, as nav2_util::LifecycleNode::createBond sets it
@@ -33,7 +34,7 @@ class NavLifecycleNode(LifecycleNode):
         super().__init__(node_name, **kwargs)  # type: ignore[arg-type]
         self._bond_pub = self.create_publisher(Status, BOND_TOPIC, BOND_QOS)
         self._bond_instance = str(uuid.uuid4())
-        self._bond_timer = None
+        self._bond_timer: Timer | None = None
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
 
     # -- hooks for subclasses ------------------------------------------------------------------

@@ -11,6 +11,7 @@ import time as _time
 from collections.abc import Iterable
 
 from geometry_msgs.msg import TransformStamped
+from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
@@ -56,7 +57,8 @@ def transform_to_msg(transform: Transform, parent: str, child: str, stamp: objec
 class TransformListener:
     """Fills a TransformBuffer from /tf and /tf_static, like tf2_ros.TransformListener."""
 
-    def __init__(self, node: Node, buffer: TransformBuffer | None = None, callback_group: object = None):
+    def __init__(self, node: Node, buffer: TransformBuffer | None = None,
+                 callback_group: CallbackGroup | None = None):
         self.node = node
         self.buffer = buffer or TransformBuffer()
         self._subs = [

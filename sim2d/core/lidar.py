@@ -1,0 +1,133 @@
+"""A planar lidar like the TurtleBot3 LDS-01, ray cast with numpy against the static geometry.
+
+Defaults (reference/nav2.md §6, ROBOTIS gazebo model): 360 beams over 360° starting at 0 rad,
+0.12–3.5 m, 5 Hz, Gaussian range noise σ = 0.01 m. Output follows REP 117: +inf for no return
+within range_max (also for a dropped beam), -inf for a return closer than range_min.
+
+Why numpy: every beam is intersected with every nearby segment and circle at once, so a scan is
+a handful of array operations, never a Python loop over beams or cells.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from sim2d.core.geometry import BoolArray, FloatArray, StaticGeometry
+
+
+@dataclass(frozen=True)
+class LidarParams:
+    """Lidar configuration.
+
+    Attributes:
+        beams: number of rays, evenly spread over ``angle_span`` (rad) from ``angle_min`` (rad).
+        range_min, range_max: valid return interval (m).
+        rate: scans per second of sim time (Hz).
+        noise_stddev: Gaussian range noise σ (m).
+        dropout_probability: chance per beam of no return (+inf).
+    """
+
+    beams: int = 360
+    angle_min: float = 0.0
+    angle_span: float = 2.0 * math.pi
+    range_min: float = 0.12
+    range_max: float = 3.5
+    rate: float = 5.0
+    noise_stddev: float = 0.01
+    dropout_probability: float = 0.0
+
+    def __post_init__(self) -> None:
+        checks = {
+            "beams": self.beams >= 1, "angle_span": 0.0 < self.angle_span <= 2.0 * math.pi + 1e-9,
+            "range_min": self.range_min >= 0.0, "range_max": self.range_max > self.range_min,
+            "rate": self.rate > 0.0, "noise_stddev": self.noise_stddev >= 0.0,
+            "dropout_probability": 0.0 <= self.dropout_probability <= 1.0,
+        }
+        for name, ok in checks.items():
+            if not ok:
+                raise ValueError(f"lidar.{name}: invalid value {getattr(self, name)!r}")
+
+    @property
+    def angle_increment(self) -> float:
+        """Angle between beams (rad)."""
+        return self.angle_span / self.beams
+
+    @property
+    def angle_max(self) -> float:
+        """Angle of the last beam (rad), as LaserScan.angle_max defines it."""
+        return self.angle_min + (self.beams - 1) * self.angle_increment
+
+
+def cast_rays(origin: tuple[float, float], angles: FloatArray, geometry: StaticGeometry,
+              max_range: float) -> FloatArray:
+    """Distance (B,) (m) along each ray from ``origin`` to the first obstacle, +inf beyond ``max_range``.
+
+    Segments are oriented with the obstacle on their left, so those facing away from the origin
+    (never the first hit) and those out of range are culled before the (B, N) intersection.
+    """
+    ox, oy = origin
+    dx, dy = np.cos(angles)[:, None], np.sin(angles)[:, None]
+    best = np.full(len(angles), np.inf)
+    seg = geometry.ray_segments
+    if len(seg):
+        px, py = seg[:, 0] - ox, seg[:, 1] - oy
+        ex, ey = seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1]
+        numerator = py * ex - px * ey                     # t · (e × d): > 0 when the segment faces us
+        keep = (numerator > 0.0) & _segments_near(seg, ox, oy, max_range)
+        px, py, ex, ey, numerator = px[keep], py[keep], ex[keep], ey[keep], numerator[keep]
+        if len(px):
+            denom = dy * ex - dx * ey                     # (B, N); > 0 for beams that can hit the face
+            u_num = py * dx - px * dy                     # u · denom
+            hit = (denom > 0.0) & (u_num >= 0.0) & (u_num <= denom)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = np.where(hit, numerator / denom, np.inf)
+            best = np.minimum(best, t.min(axis=1))
+    circles = geometry.circles
+    if len(circles):
+        cx, cy = circles[:, 0] - ox, circles[:, 1] - oy
+        near = cx * cx + cy * cy <= (max_range + circles[:, 2]) ** 2
+        cx, cy, radius = cx[near], cy[near], circles[near, 2]
+        if len(cx):
+            b = dx * cx + dy * cy                         # projection of each centre on each ray
+            disc = b * b - (cx * cx + cy * cy - radius * radius)
+            root = np.sqrt(np.maximum(disc, 0.0))
+            t = np.where(b >= root, b - root, b + root)   # origin inside a circle: its exit point
+            t = np.where((disc >= 0.0) & (b + root >= 0.0), t, np.inf)
+            best = np.minimum(best, t.min(axis=1))
+    best[best > max_range] = np.inf
+    return best
+
+
+def _segments_near(seg: FloatArray, ox: float, oy: float, max_range: float) -> BoolArray:
+    """Mask of segments whose bounding box comes within ``max_range`` of the origin (cheap cull)."""
+    x_low, x_high = np.minimum(seg[:, 0], seg[:, 2]), np.maximum(seg[:, 0], seg[:, 2])
+    y_low, y_high = np.minimum(seg[:, 1], seg[:, 3]), np.maximum(seg[:, 1], seg[:, 3])
+    gap_x = np.maximum(x_low - ox, 0.0) + np.maximum(ox - x_high, 0.0)
+    gap_y = np.maximum(y_low - oy, 0.0) + np.maximum(oy - y_high, 0.0)
+    result: BoolArray = gap_x * gap_x + gap_y * gap_y <= max_range * max_range
+    return result
+
+
+class Lidar:
+    """Produces noisy REP 117 scans from a sensor pose; the noise comes from the injected generator."""
+
+    def __init__(self, params: LidarParams, geometry: StaticGeometry, rng: np.random.Generator) -> None:
+        self.params = params
+        self.geometry = geometry
+        self.rng = rng
+        steps = np.arange(params.beams, dtype=np.float64)
+        self._beam_angles: FloatArray = params.angle_min + params.angle_increment * steps
+
+    def scan(self, x: float, y: float, yaw: float) -> FloatArray:
+        """Ranges (beams,) (m) from a sensor at (x, y) facing ``yaw`` (rad), map frame."""
+        p = self.params
+        true = cast_rays((x, y), self._beam_angles + yaw, self.geometry, p.range_max + 4.0 * p.noise_stddev)
+        measured = true + self.rng.normal(0.0, p.noise_stddev, p.beams) if p.noise_stddev > 0 else true.copy()
+        measured[measured > p.range_max] = np.inf
+        measured[measured < p.range_min] = -np.inf
+        if p.dropout_probability > 0.0:
+            measured[self.rng.random(p.beams) < p.dropout_probability] = np.inf
+        return measured

@@ -1,0 +1,158 @@
+"""The simulator: one TurtleBot3 in a static world, advanced in fixed physics steps of sim time.
+
+The caller owns time: ``step()`` advances exactly ``physics_step`` seconds; the ROS node decides how
+many steps to run per wall second (the real-time factor). Everything random comes from the injected
+generator, split into independent streams for the lidar and the odometry, so the same seed and the
+same command sequence give identical trajectories and scans, whatever the scan rate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim2d.core.battery import Battery, BatteryParams
+from sim2d.core.collision import CollisionModel, CollisionParams
+from sim2d.core.geometry import FloatArray, normalize_angle
+from sim2d.core.lidar import Lidar, LidarParams
+from sim2d.core.odometry import Odometry, OdometryParams
+from sim2d.core.robot import Pose2D, RobotModel, limit_velocity
+from sim2d.core.world import World
+
+
+@dataclass(frozen=True)
+class SimParams:
+    """Core simulation settings.
+
+    Attributes:
+        physics_step: fixed step (s); kinematics are exact arcs, so it only sets the resolution of
+            acceleration limits, contacts and the watchdog.
+        cmd_vel_timeout: the robot brakes when no command arrived for this long (s, sim time).
+        initial_pose: spawn pose in the map frame (m, rad); also the odom frame's origin.
+    """
+
+    physics_step: float = 0.005
+    cmd_vel_timeout: float = 0.5
+    initial_pose: Pose2D = field(default_factory=lambda: Pose2D(-2.0, -0.5, 0.0))
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.physics_step <= 0.1:
+            raise ValueError(f"physics_step: must be in (0, 0.1] s, got {self.physics_step}")
+        if self.cmd_vel_timeout <= 0.0:
+            raise ValueError(f"cmd_vel_timeout: must be > 0 s, got {self.cmd_vel_timeout}")
+
+
+@dataclass(frozen=True)
+class CollisionEvent:
+    """A new contact: sim time (ns) and the contact point in the map frame (m)."""
+
+    time_ns: int
+    x: float
+    y: float
+
+
+class Simulator:
+    """One robot, its sensors and battery in a world. Not thread-safe: one caller drives it."""
+
+    def __init__(self, world: World, robot: RobotModel, params: SimParams, rng: np.random.Generator,
+                 lidar: LidarParams | None = None, odometry: OdometryParams | None = None,
+                 battery: BatteryParams | None = None, collision: CollisionParams | None = None) -> None:
+        self.world, self.robot, self.params = world, robot, params
+        lidar_rng, odom_rng = rng.spawn(2)
+        self.lidar = Lidar(lidar or LidarParams(), world.geometry, lidar_rng)
+        self.odometry = Odometry(odometry or OdometryParams(), odom_rng)
+        self.battery = Battery(battery or BatteryParams())
+        self.collision = CollisionModel(world.geometry, robot, collision or CollisionParams())
+        self.step_ns = round(params.physics_step * 1e9)
+        self.time_ns = 0
+        self._timeout_ns = round(params.cmd_vel_timeout * 1e9)
+        self.collision_count = 0
+        self.collision_events: list[CollisionEvent] = []
+        self.reset()
+
+    @property
+    def time(self) -> float:
+        """Sim time (s)."""
+        return self.time_ns * 1e-9
+
+    def reset(self) -> None:
+        """Robot back to the spawn pose at rest; odometry, battery and collision count restart.
+
+        Sim time keeps running: ROS consumers treat a clock that jumps back as an error.
+        """
+        self.pose = self.params.initial_pose
+        self.v = self.w = 0.0
+        self._command = (0.0, 0.0)
+        self._command_ns = self.time_ns - self._timeout_ns - 1
+        self.odometry.reset()
+        self.battery.reset()
+        self.collision.in_contact = False
+        self.collision_count = 0
+        self.collision_events.clear()
+
+    def command(self, v: float, w: float) -> None:
+        """Set the target body velocity (m/s, rad/s); it holds until ``cmd_vel_timeout`` of sim time."""
+        if not (math.isfinite(v) and math.isfinite(w)):
+            return
+        self._command = (v, w)
+        self._command_ns = self.time_ns
+
+    def teleport(self, pose: Pose2D) -> bool:
+        """Move the robot (map frame) and stop it; refused (False) if the footprint would overlap.
+
+        Odometry does not notice: a kidnapped robot's wheels did not turn.
+        """
+        if self.collision.overlaps(pose):
+            return False
+        self.pose = Pose2D(pose.x, pose.y, normalize_angle(pose.yaw))
+        self.v = self.w = 0.0
+        self.collision.in_contact = False
+        return True
+
+    def step(self) -> None:
+        """Advance one physics step: watchdog, limits, swept motion, contacts, odometry, battery."""
+        dt = self.params.physics_step
+        if self.time_ns - self._command_ns > self._timeout_ns or self.battery.empty:
+            target_v = target_w = 0.0
+        else:
+            target_v, target_w = self._command
+        v_new, w_new = limit_velocity(self.robot, self.v, self.w, target_v, target_w, dt)
+        v_mean, w_mean = 0.5 * (self.v + v_new), 0.5 * (self.w + w_new)
+        distance = 0.0
+        blocked = False
+        if v_mean != 0.0 or w_mean != 0.0:
+            start = self.pose
+            result = self.collision.move(start, v_mean, w_mean, dt)
+            blocked, end = result.blocked, result.pose
+            if blocked:
+                v_new = w_new = 0.0
+                if not self.collision.in_contact and result.contact is not None:
+                    self.collision_events.append(CollisionEvent(self.time_ns + self.step_ns, *result.contact))
+            dx, dy = end.x - start.x, end.y - start.y
+            c, s = math.cos(start.yaw), math.sin(start.yaw)
+            self.odometry.update(c * dx + s * dy, -s * dx + c * dy, normalize_angle(end.yaw - start.yaw))
+            distance = math.hypot(dx, dy)
+            self.pose = end
+        if (blocked or self.collision.in_contact) and self.collision.update_contact(self.pose, blocked):
+            self.collision_count += 1
+        self.v, self.w = v_new, w_new
+        self.battery.update(self.pose.x, self.pose.y, self.v, self.w, distance, dt)
+        self.time_ns += self.step_ns
+
+    def scan_pose(self) -> Pose2D:
+        """Pose of base_scan in the map frame (m, rad)."""
+        ox, oy, _ = self.robot.scan_offset
+        c, s = math.cos(self.pose.yaw), math.sin(self.pose.yaw)
+        return Pose2D(self.pose.x + c * ox - s * oy, self.pose.y + s * ox + c * oy, self.pose.yaw)
+
+    def scan(self) -> FloatArray:
+        """One lidar scan (beams,) (m, REP 117) taken now."""
+        sensor = self.scan_pose()
+        return self.lidar.scan(sensor.x, sensor.y, sensor.yaw)
+
+    def pop_collision_events(self) -> list[CollisionEvent]:
+        """New contacts since the last call (the node publishes each once)."""
+        events, self.collision_events = self.collision_events, []
+        return events

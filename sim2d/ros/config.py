@@ -1,0 +1,182 @@
+"""The node's parameters: one flat ROS namespace built from the core's frozen dataclasses.
+
+Why here and without rclpy: the CLI validates a parameter file and its flags before starting ROS,
+so a bad value fails at once with a one-line error naming the file and key; the node declares
+the same names with the same defaults (the dataclass defaults are the only source of truth).
+
+Layout (Nav2 style, config/sim2d.yaml)::
+
+    sim2d:
+      ros__parameters:
+        world: turtlebot3_world      # NodeParams and SimParams fields at the top level
+        initial_pose: {x: -2.0, y: -0.5, yaw: 0.0}
+        lidar: {beams: 360, ...}     # LidarParams, OdometryParams, BatteryParams, CollisionParams
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from sim2d.core.battery import BatteryParams
+from sim2d.core.collision import CollisionParams
+from sim2d.core.lidar import LidarParams
+from sim2d.core.odometry import OdometryParams
+from sim2d.core.simulator import SimParams
+
+NODE_NAME = "sim2d"
+ParamValue = bool | int | float | str
+
+
+@dataclass(frozen=True)
+class NodeParams:
+    """ROS-side settings.
+
+    Attributes:
+        world: world name (sim2d/worlds/<name>.yaml) or path to a world or map_server YAML.
+        robot: "waffle" or "burger".
+        seed: seed of every random stream (lidar noise, odometry drift).
+        real_time_factor: sim seconds per wall second; 0 runs as fast as possible.
+        enable_stamped_cmd_vel: cmd_vel is TwistStamped instead of Twist (Nav2's knob).
+        clock_rate: /clock messages per sim second (Hz); sets the resolution of sim-time timers.
+        battery_rate: /battery_state messages per sim second (Hz).
+        rtf_log_period: wall seconds between log lines reporting the achieved real-time factor.
+    """
+
+    world: str = "turtlebot3_world"
+    robot: str = "waffle"
+    seed: int = 0
+    real_time_factor: float = 1.0
+    enable_stamped_cmd_vel: bool = False
+    clock_rate: float = 100.0
+    battery_rate: float = 1.0
+    rtf_log_period: float = 10.0
+
+    def __post_init__(self) -> None:
+        if self.real_time_factor < 0.0:
+            raise ValueError(f"real_time_factor: must be > 0 (or 0 = max speed), got {self.real_time_factor}")
+        for name in ("clock_rate", "battery_rate", "rtf_log_period"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"{name}: must be > 0, got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything the node needs, validated."""
+
+    node: NodeParams
+    sim: SimParams
+    lidar: LidarParams
+    odometry: OdometryParams
+    battery: BatteryParams
+    collision: CollisionParams
+
+
+_ROOTS: tuple[type, ...] = (NodeParams, SimParams)
+_SECTIONS: dict[str, type] = {"lidar": LidarParams, "odometry": OdometryParams, "battery": BatteryParams,
+                              "collision": CollisionParams}
+
+
+def _default(f: dataclasses.Field[Any]) -> Any:
+    if f.default_factory is not dataclasses.MISSING:
+        return f.default_factory()
+    return f.default
+
+
+def _flatten_defaults(instance: Any, prefix: str, out: dict[str, ParamValue]) -> None:
+    for f in dataclasses.fields(instance):
+        value = getattr(instance, f.name)
+        if dataclasses.is_dataclass(value):
+            _flatten_defaults(value, f"{prefix}{f.name}.", out)
+        elif isinstance(value, tuple):
+            continue  # not a parameter (none today)
+        else:
+            out[f"{prefix}{f.name}"] = value
+
+
+def defaults() -> dict[str, ParamValue]:
+    """Every parameter name (dotted) and its default."""
+    out: dict[str, ParamValue] = {}
+    for cls in _ROOTS:
+        _flatten_defaults(cls(), "", out)
+    for section, cls in _SECTIONS.items():
+        _flatten_defaults(cls(), f"{section}.", out)
+    return out
+
+
+def coerce(name: str, value: Any, where: str = "") -> ParamValue:
+    """``value`` converted to the type of ``name``'s default; ValueError names ``where`` and key."""
+    known = defaults()
+    prefix = f"{where}: " if where else ""
+    if name not in known:
+        raise ValueError(f"{prefix}{name}: unknown parameter")
+    default = known[name]
+    if isinstance(default, bool):
+        ok = isinstance(value, bool)
+    elif isinstance(default, float):
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        value = float(value) if ok else value
+    elif isinstance(default, int):
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    else:
+        ok = isinstance(value, str)
+    if not ok:
+        raise ValueError(f"{prefix}{name}: expected {type(default).__name__}, got {value!r}")
+    return value  # type: ignore[no-any-return]
+
+
+def _build(cls: type, prefix: str, values: dict[str, ParamValue]) -> Any:
+    kwargs: dict[str, Any] = {}
+    for f in dataclasses.fields(cls):
+        name = f"{prefix}{f.name}"
+        nested = _default(f)
+        if dataclasses.is_dataclass(nested):
+            kwargs[f.name] = _build(type(nested), f"{name}.", values)
+        elif name in values:
+            kwargs[f.name] = values[name]
+    return cls(**kwargs)
+
+
+def build_config(values: dict[str, ParamValue]) -> SimConfig:
+    """A validated SimConfig from dotted parameter values (missing ones take their defaults)."""
+    merged = {**defaults(), **values}
+    return SimConfig(_build(NodeParams, "", merged), _build(SimParams, "", merged),
+                     *(_build(cls, f"{section}.", merged) for section, cls in _SECTIONS.items()))
+
+
+def load_params_file(path: str | Path) -> dict[str, ParamValue]:
+    """Dotted parameters from a Nav2-style file (``sim2d: ros__parameters:``; ``/**`` also read)."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as exc:
+        raise ValueError(f"{path}: cannot read parameter file ({exc})") from exc
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: expected '{NODE_NAME}: ros__parameters:' at the top level")
+    values: dict[str, ParamValue] = {}
+    for node_key in ("/**", NODE_NAME, f"/{NODE_NAME}"):
+        section = data.get(node_key)
+        if section is None:
+            continue
+        params = section.get("ros__parameters") if isinstance(section, dict) else None
+        if not isinstance(params, dict):
+            raise ValueError(f"{path}: {node_key}.ros__parameters: missing or not a mapping")
+        _flatten_yaml(params, "", values, f"{path}: {node_key}.ros__parameters", node_key == "/**")
+    return values
+
+
+def _flatten_yaml(node: dict[str, Any], prefix: str, out: dict[str, ParamValue], where: str,
+                  lenient: bool) -> None:
+    known = defaults()
+    for key, value in node.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            _flatten_yaml(value, f"{name}.", out, where, lenient)
+        elif lenient and name not in known:
+            continue  # '/**' sections carry other nodes' parameters (use_sim_time, ...)
+        elif name != "use_sim_time":
+            out[name] = coerce(name, value, where)

@@ -1,0 +1,51 @@
+"""sim2d command line: flags and parameter files validated before ROS starts (exit 2, one line)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from sim2d.ros.cli import main, parse
+from sim2d.ros.config import build_config
+
+
+def test_flags_override_the_parameter_file(tmp_path: Path) -> None:
+    params = tmp_path / "p.yaml"
+    params.write_text("sim2d:\n  ros__parameters:\n    robot: burger\n    lidar: {rate: 10}\n"
+                      "/**:\n  ros__parameters:\n    use_sim_time: false\n    other_node_knob: 3\n")
+    values, ros_args = parse(["--params-file", str(params), "--rtf", "max", "--x", "0.5", "--yaw", "1",
+                              "--ros-args", "-r", "scan:=base_scan"])
+    config = build_config(values)
+    assert config.node.robot == "burger" and config.lidar.rate == 10.0
+    assert config.node.real_time_factor == 0.0
+    pose = config.sim.initial_pose
+    assert (pose.x, pose.y, pose.yaw) == (0.5, -0.5, 1.0)
+    assert ros_args == ["--ros-args", "-r", "scan:=base_scan"]
+
+
+def test_shipped_config_matches_the_defaults() -> None:
+    values, _ = parse([])
+    assert build_config(values) == build_config({})
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--rtf", "fast"], "argument --rtf"),
+    (["--robot", "kobuki"], "argument --robot"),
+    (["--world", "atlantis"], "world 'atlantis' not found"),
+    (["--params-file", "{bad}"], "bad.yaml: sim2d.ros__parameters: lidar.beams: expected int"),
+    (["--params-file", "{unknown}"], "unknown.yaml: sim2d.ros__parameters: lidar.colour: unknown parameter"),
+    (["--world", "{world}"], "world.yaml: obstacles[0].radius: must be > 0"),
+])
+def test_bad_input_is_one_line_naming_file_and_field(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                     argv: list[str], message: str) -> None:
+    (tmp_path / "bad.yaml").write_text("sim2d:\n  ros__parameters:\n    lidar: {beams: many}\n")
+    (tmp_path / "unknown.yaml").write_text("sim2d:\n  ros__parameters:\n    lidar: {colour: red}\n")
+    (tmp_path / "world.yaml").write_text("obstacles: [{type: circle, center: [0, 0], radius: 0}]\n")
+    files = {name: tmp_path / f"{name}.yaml" for name in ("bad", "unknown", "world")}
+    argv = [a.format(**files) for a in argv]
+    with pytest.raises(SystemExit) as exit_info:
+        raise SystemExit(main(argv))
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("sim2d: error: ") and message in err
