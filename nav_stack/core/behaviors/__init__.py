@@ -1,0 +1,29 @@
+"""Recovery behaviors as pure state machines (spin, back up, drive on heading, wait)."""
+
+from nav_stack.core.behaviors.base import (
+    BackUpErrorCode,
+    BehaviorParams,
+    BehaviorResult,
+    CollisionLookahead,
+    DriveOnHeadingErrorCode,
+    SpinErrorCode,
+)
+from nav_stack.core.behaviors.drive import BackUp, DriveGoal, DriveOnHeading
+from nav_stack.core.behaviors.spin import Spin, SpinGoal, spin_speed
+from nav_stack.core.behaviors.wait import Wait
+
+__all__ = [
+    "BackUp",
+    "BackUpErrorCode",
+    "BehaviorParams",
+    "BehaviorResult",
+    "CollisionLookahead",
+    "DriveGoal",
+    "DriveOnHeading",
+    "DriveOnHeadingErrorCode",
+    "Spin",
+    "SpinErrorCode",
+    "SpinGoal",
+    "Wait",
+    "spin_speed",
+]

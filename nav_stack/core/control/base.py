@@ -1,0 +1,140 @@
+"""Types every controller shares: velocities, FollowPath error codes, the costmap view, footprints.
+
+Controllers work in the local costmap frame (odom in Nav2): the robot pose, the pruned path and
+the costmap all share it, so a controller never needs TF. A footprint model turns poses into
+costs and says which costs are collisions; DWB, RPP and the behaviors all use it.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass
+from typing import NamedTuple, Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.geometry import FloatArray
+from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
+
+IntArray = npt.NDArray[np.int64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+class Twist2D(NamedTuple):
+    """Planar velocity command: forward speed (m/s) and yaw rate (rad/s)."""
+
+    vx: float
+    wz: float
+
+
+class ControllerErrorCode(enum.IntEnum):
+    """nav2_msgs/action/FollowPath result codes (Jazzy)."""
+
+    NONE = 0
+    UNKNOWN = 100
+    INVALID_CONTROLLER = 101
+    TF_ERROR = 102
+    INVALID_PATH = 103
+    PATIENCE_EXCEEDED = 104
+    FAILED_TO_MAKE_PROGRESS = 105
+    NO_VALID_CONTROL = 106
+    CONTROLLER_TIMED_OUT = 107
+
+
+class ControllerError(Exception):
+    """A controller failure with its FollowPath code; the controller server turns it into a result."""
+
+    code = ControllerErrorCode.UNKNOWN
+
+    def __init__(self, message: str) -> None:
+        super().__init__(f"{self.code.name}: {message}")
+        self.message = message
+
+
+class NoValidControl(ControllerError):  # noqa: N818 - Nav2's exception name
+    """No admissible command exists (all DWB trajectories rejected, RPP collision ahead)."""
+
+    code = ControllerErrorCode.NO_VALID_CONTROL
+
+
+class InvalidPath(ControllerError):  # noqa: N818 - Nav2's exception name
+    """The path is empty or lies outside the local costmap."""
+
+    code = ControllerErrorCode.INVALID_PATH
+
+
+@dataclass(frozen=True)
+class CostGrid:
+    """A costmap snapshot: uint8 costs indexed ``[my, mx]`` and where they lie."""
+
+    costs: npt.NDArray[np.uint8]
+    spec: GridSpec
+
+    def __post_init__(self) -> None:
+        if self.costs.shape != self.spec.shape:
+            raise ValueError(f"cost array shape {self.costs.shape} does not match spec {self.spec.shape}")
+
+    def cost_at(self, x: FloatArray | float, y: FloatArray | float) -> IntArray:
+        """Cost of the cells under points (NO_INFORMATION off the grid)."""
+        mx, my = self.spec.world_to_cell(x, y)
+        inside = self.spec.in_bounds(mx, my)
+        out = np.full(np.shape(mx), NO_INFORMATION, dtype=np.int64)
+        out[inside] = self.costs[my[inside], mx[inside]]
+        return out
+
+
+class Footprint(Protocol):
+    """Footprint cost function: the cost of the robot standing at poses, and which costs collide."""
+
+    def cost(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> IntArray: ...
+
+    def collides(self, cost: IntArray) -> BoolArray: ...
+
+
+@dataclass(frozen=True)
+class CircleFootprint:
+    """A round robot on an inflated costmap: the centre cell's cost decides (Nav2's radius mode).
+
+    Costs ≥ 253 (inscribed, lethal, unknown/off-grid) mean the disc touches an obstacle.
+    """
+
+    radius: float = 0.22
+
+    def cost(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> IntArray:
+        return grid.cost_at(x, y)
+
+    def collides(self, cost: IntArray) -> BoolArray:
+        return np.asarray(cost >= INSCRIBED_INFLATED_OBSTACLE)
+
+
+@dataclass(frozen=True)
+class PolygonFootprint:
+    """A polygon in the robot frame; its cost is the maximum along the outline, lethal collides."""
+
+    points: tuple[tuple[float, float], ...]
+    sample_spacing: float = 0.05  # m between outline samples
+
+    def __post_init__(self) -> None:
+        if len(self.points) < 3:
+            raise ValueError(f"a polygon footprint needs >= 3 points, got {self.points}")
+
+    def outline(self) -> FloatArray:
+        """Outline sample points (K, 2) in the robot frame."""
+        corners = np.asarray(self.points, dtype=np.float64)
+        samples = []
+        for a, b in zip(corners, np.roll(corners, -1, axis=0), strict=True):
+            n = max(1, math.ceil(float(np.hypot(*(b - a))) / self.sample_spacing))
+            samples.append(a + np.arange(n)[:, None] / n * (b - a))
+        return np.vstack(samples)
+
+    def cost(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> IntArray:
+        o = self.outline()
+        c, s = np.cos(yaw)[..., None], np.sin(yaw)[..., None]
+        px = x[..., None] + c * o[:, 0] - s * o[:, 1]
+        py = y[..., None] + s * o[:, 0] + c * o[:, 1]
+        return np.asarray(grid.cost_at(px, py).max(axis=-1))
+
+    def collides(self, cost: IntArray) -> BoolArray:
+        return np.asarray(cost >= LETHAL_OBSTACLE)  # lethal, or unknown / off the grid (255)

@@ -1,0 +1,90 @@
+"""What every global planner shares: the plugin protocol, start/goal checks and path assembly."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.geometry import FloatArray, Pose2D, headings_along
+from nav_stack.core.grid import GridSpec
+from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
+
+CostArray = npt.NDArray[np.uint8]
+
+
+class GlobalPlanner(Protocol):
+    """A planner plugin: poses and the costmap in, an (N, 3) path in the costmap frame out.
+
+    Implementations raise :class:`PlanningError` with a ComputePathToPose code on failure.
+    """
+
+    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray: ...
+
+
+def check_costmap(costs: CostArray, spec: GridSpec) -> None:
+    """Refuse a costmap whose array does not match its spec (a wiring bug, not a planning failure)."""
+    if costs.shape != spec.shape or costs.dtype != np.uint8:
+        raise ValueError(f"costmap array {costs.shape} {costs.dtype} does not match spec {spec.shape} uint8")
+
+
+def locate(spec: GridSpec, pose: Pose2D, what: str) -> tuple[int, int]:
+    """Cell (mx, my) of the start or goal; START/GOAL_OUTSIDE_MAP when it is off the grid."""
+    code = PlanErrorCode.START_OUTSIDE_MAP if what == "start" else PlanErrorCode.GOAL_OUTSIDE_MAP
+    mx, my = spec.world_to_cell(pose.x, pose.y)
+    if not spec.in_bounds(mx, my):
+        raise PlanningError(
+            code,
+            f"{what} ({pose.x:.3f}, {pose.y:.3f}) is outside the "
+            f"{spec.width}x{spec.height} costmap at origin "
+            f"({spec.origin_x:.3f}, {spec.origin_y:.3f})",
+        )
+    return int(mx), int(my)
+
+
+def tolerance_candidates(
+    spec: GridSpec,
+    goal: Pose2D,
+    goal_cell: tuple[int, int],
+    tolerance: float,
+    passable: npt.NDArray[np.bool_],
+) -> list[tuple[int, int]]:
+    """Passable cells within ±tolerance (m, square window as NavFn) of the goal, nearest first."""
+    reach = int(tolerance / spec.resolution)
+    gx, gy = goal_cell
+    x0, x1 = max(gx - reach, 0), min(gx + reach, spec.width - 1)
+    y0, y1 = max(gy - reach, 0), min(gy + reach, spec.height - 1)
+    ys, xs = np.nonzero(passable[y0 : y1 + 1, x0 : x1 + 1])
+    xs, ys = xs + x0, ys + y0
+    wx, wy = spec.cell_to_world(xs, ys)
+    d2 = (wx - goal.x) ** 2 + (wy - goal.y) ** 2
+    d2[(xs == gx) & (ys == gy)] = -1.0  # the goal's own cell wins ties (goal on a cell border)
+    order = np.argsort(d2, kind="stable")
+    return [(int(xs[i]), int(ys[i])) for i in order]
+
+
+def build_path(points: FloatArray, goal_yaw: float, spacing: float) -> FloatArray:
+    """(N, 3) poses through ``points`` (N, 2): segments longer than 1.5·spacing are subdivided,
+    each pose faces the next one, and the last pose takes the goal's yaw."""
+    if len(points) == 1:
+        return np.array([[points[0, 0], points[0, 1], goal_yaw]])
+    pieces = []
+    for a, b in itertools.pairwise(points):
+        n = max(1, math.ceil(float(np.hypot(*(b - a))) / spacing - 0.5))
+        t = np.arange(n)[:, None] / n
+        pieces.append(a + t * (b - a))
+    pieces.append(points[-1:])
+    xy = np.vstack(pieces)
+    path = np.column_stack((xy, headings_along(xy)))
+    path[-1, 2] = goal_yaw
+    return path
+
+
+def cell_centres(spec: GridSpec, cells: list[tuple[int, int]]) -> FloatArray:
+    """World coordinates (N, 2) of cell centres."""
+    arr = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
+    x, y = spec.cell_to_world(arr[:, 0], arr[:, 1])
+    return np.column_stack((x, y))

@@ -1,0 +1,171 @@
+"""Cost-aware 8-connected A* / Dijkstra over a costmap, on flat indices of a padded grid.
+
+Why this shape: the search runs in pure Python, so everything that can be done once per plan is
+done with numpy before the loop. The costmap is translated to per-cell traversal costs
+(NavFn's c' = 50 + 0.8·c, impassable = inf), padded with a one-cell impassable border so the loop
+needs no bounds checks, flattened, and turned into Python lists (list indexing is several times
+faster than numpy scalar indexing). Impassable cells start "closed", so one bytearray lookup
+rejects both visited and blocked neighbours. Moving into a cell costs its traversal cost times
+the step length in cells (1 or √2); the start cell is free.
+
+A* uses the octile distance times the neutral cost (50), admissible and consistent because no
+step is cheaper than 50 per cell; it is inflated by 1e-6 so ties on f prefer the deeper node,
+which keeps open-space expansions close to the path length (the returned cost is within 1e-6
+relative of the optimum). Dijkstra (``use_astar=False``, NavFn's default) is the same loop with a
+zero heuristic.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+
+NEUTRAL_COST = 50.0  # NavFn COST_NEUTRAL: traversal cost of a free cell
+COST_FACTOR = 0.8  # NavFn COST_FACTOR: weight of the costmap value
+UNKNOWN_TRAVERSAL_COST = 253.0  # NavFn charges an allowed unknown cell COST_OBS - 1
+_TIE_BREAK = 1.0 + 1e-6
+_SQRT2 = math.sqrt(2.0)
+_CLOSED_BLOCKED = 1
+_CLOSED_EXPANDED = 2
+_DEADLINE_CHECK_EVERY = 2048
+
+
+def navfn_traversal_costs(costs: npt.NDArray[np.uint8], allow_unknown: bool) -> npt.NDArray[np.float64]:
+    """Per-cell traversal cost: 50 + 0.8·c below 253, 253 for allowed unknown, inf when impassable."""
+    c = costs.astype(np.float64)
+    out = NEUTRAL_COST + COST_FACTOR * c
+    out[costs >= INSCRIBED_INFLATED_OBSTACLE] = np.inf
+    if allow_unknown:
+        out[costs == NO_INFORMATION] = UNKNOWN_TRAVERSAL_COST
+    return out
+
+
+class SearchTimeoutError(Exception):
+    """The search exceeded its iteration cap or deadline."""
+
+
+@dataclass
+class SearchGraph:
+    """A traversal-cost grid prepared for the search loop (padded by one impassable cell)."""
+
+    width: int
+    height: int
+    cell_cost: list[float]
+    blocked: bytes
+
+    @classmethod
+    def build(cls, traversal: npt.NDArray[np.float64]) -> SearchGraph:
+        """Pad, flatten and listify a (height, width) traversal-cost array (inf = impassable)."""
+        height, width = traversal.shape
+        padded = np.full((height + 2, width + 2), np.inf)
+        padded[1:-1, 1:-1] = traversal
+        flat = padded.ravel()
+        blocked = np.isinf(flat).view(np.uint8).tobytes()  # True -> 1 == _CLOSED_BLOCKED
+        return cls(width, height, flat.tolist(), blocked)
+
+    @property
+    def stride(self) -> int:
+        return self.width + 2
+
+    def index(self, mx: int, my: int) -> int:
+        """Flat index of grid cell (mx, my)."""
+        return (my + 1) * self.stride + mx + 1
+
+    def cell(self, index: int) -> tuple[int, int]:
+        """Grid cell (mx, my) of a flat index."""
+        row, col = divmod(index, self.stride)
+        return col - 1, row - 1
+
+    def passable(self, mx: int, my: int) -> bool:
+        return not self.blocked[self.index(mx, my)]
+
+
+@dataclass
+class SearchResult:
+    """Outcome of one search: the goal index if reached, the parent links and what was expanded."""
+
+    reached: int | None
+    parent: dict[int, int]
+    g: dict[int, float]
+    expanded: bytearray
+    expansions: int
+
+    def cells_to(self, graph: SearchGraph, index: int) -> list[tuple[int, int]]:
+        """Cells (mx, my) from the start to ``index`` following the parent links."""
+        chain = [index]
+        while chain[-1] in self.parent:
+            chain.append(self.parent[chain[-1]])
+        return [graph.cell(i) for i in reversed(chain)]
+
+    def was_expanded(self, index: int) -> bool:
+        return self.expanded[index] == _CLOSED_EXPANDED
+
+
+def search(
+    graph: SearchGraph,
+    start: int,
+    goal: int,
+    use_astar: bool,
+    max_iterations: int,
+    deadline_passed: Callable[[], bool],
+) -> SearchResult:
+    """Best-first search from ``start`` to ``goal`` (flat indices); exhausts the reachable set on failure.
+
+    Raises SearchTimeoutError after ``max_iterations`` expansions or once ``deadline_passed()`` is true
+    (polled every 2048 expansions).
+    """
+    stride = graph.stride
+    cost = graph.cell_cost
+    closed = bytearray(graph.blocked)
+    g: dict[int, float] = {start: 0.0}
+    parent: dict[int, int] = {}
+    steps = [
+        (-stride - 1, _SQRT2),
+        (-stride, 1.0),
+        (-stride + 1, _SQRT2),
+        (-1, 1.0),
+        (1, 1.0),
+        (stride - 1, _SQRT2),
+        (stride, 1.0),
+        (stride + 1, _SQRT2),
+    ]
+    gy, gx = divmod(goal, stride)
+    h_straight = NEUTRAL_COST * _TIE_BREAK if use_astar else 0.0
+    h_diag = (_SQRT2 - 2.0) * h_straight
+    heap: list[tuple[float, int]] = [(0.0, start)]
+    pop, push = heapq.heappop, heapq.heappush
+    inf = math.inf
+    expansions = 0
+    while heap:
+        _, cur = pop(heap)
+        if closed[cur]:
+            continue
+        closed[cur] = _CLOSED_EXPANDED
+        if cur == goal:
+            return SearchResult(cur, parent, g, closed, expansions)
+        expansions += 1
+        if expansions > max_iterations:
+            raise SearchTimeoutError(f"iteration cap of {max_iterations} expansions reached")
+        if expansions % _DEADLINE_CHECK_EVERY == 0 and deadline_passed():
+            raise SearchTimeoutError(f"planning deadline passed after {expansions} expansions")
+        g_cur = g[cur]
+        for offset, length in steps:
+            n = cur + offset
+            if closed[n]:
+                continue
+            ng = g_cur + cost[n] * length
+            if ng < g.get(n, inf):
+                g[n] = ng
+                parent[n] = cur
+                ny, nx = divmod(n, stride)
+                dx = nx - gx if nx > gx else gx - nx
+                dy = ny - gy if ny > gy else gy - ny
+                push(heap, (ng + (dx + dy) * h_straight + (dx if dx < dy else dy) * h_diag, n))
+    return SearchResult(None, parent, g, closed, expansions)

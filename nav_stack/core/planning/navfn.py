@@ -1,0 +1,127 @@
+"""The "GridBased" planner: NavFn's cost model searched with 8-connected A* or Dijkstra.
+
+NavFn propagates a potential wavefront from the goal and descends its gradient from the robot.
+We keep NavFn's observable behaviour (cost translation 50 + 0.8·c, impassable ≥ 253, unknown
+charged 253 when ``allow_unknown``, ``use_astar`` switch, ±``tolerance`` square searched for the
+reachable cell nearest the goal) but search the 8-connected cell graph with a binary heap from
+the start, so the path is the exact cost-optimal cell sequence rather than a gradient trace.
+``max_planning_time`` and ``max_iterations`` are our additions (Smac's knobs) so a plan on a huge
+map ends with TIMEOUT instead of blocking the planner server.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from nav_stack.core.geometry import FloatArray, Pose2D
+from nav_stack.core.grid import GridSpec
+from nav_stack.core.planning.common import (
+    CostArray,
+    build_path,
+    cell_centres,
+    check_costmap,
+    locate,
+    tolerance_candidates,
+)
+from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
+from nav_stack.core.planning.grid_search import SearchGraph, SearchTimeoutError, navfn_traversal_costs, search
+
+
+@dataclass(frozen=True)
+class NavfnParams:
+    """NavFn knobs (names and code defaults of nav2_navfn_planner) plus our time/iteration caps."""
+
+    tolerance: float = 0.5  # m, half-side of the square searched around a blocked/unreachable goal
+    use_astar: bool = False
+    allow_unknown: bool = True
+    max_planning_time: float = 2.0  # s
+    max_iterations: int = 1_000_000  # node expansions
+
+    def __post_init__(self) -> None:
+        if not (self.tolerance >= 0.0 and math.isfinite(self.tolerance)):
+            raise ValueError(f"NavfnParams.tolerance must be >= 0 m, got {self.tolerance}")
+        if not self.max_planning_time > 0.0:
+            raise ValueError(f"NavfnParams.max_planning_time must be > 0 s, got {self.max_planning_time}")
+        if self.max_iterations <= 0:
+            raise ValueError(f"NavfnParams.max_iterations must be > 0, got {self.max_iterations}")
+
+
+class NavfnPlanner:
+    """Cost-optimal 8-connected grid planner with NavFn's cost model and goal tolerance.
+
+    The prepared search graph is cached and reused while the costmap content is unchanged
+    (a costmap updates at ~1 Hz while plans may be requested more often).
+    """
+
+    def __init__(
+        self, params: NavfnParams | None = None, clock: Callable[[], float] = time.monotonic
+    ) -> None:
+        self.params = params or NavfnParams()
+        self._clock = clock
+        self._cached_costs: CostArray | None = None
+        self._graph: SearchGraph | None = None
+
+    def _prepare(self, costs: CostArray) -> SearchGraph:
+        if self._graph is None or self._cached_costs is None or not np.array_equal(costs, self._cached_costs):
+            self._graph = SearchGraph.build(navfn_traversal_costs(costs, self.params.allow_unknown))
+            self._cached_costs = costs.copy()
+        return self._graph
+
+    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray:
+        check_costmap(costs, spec)
+        start_cell = locate(spec, start, "start")
+        goal_cell = locate(spec, goal, "goal")
+        graph = self._prepare(costs)
+        if not graph.passable(*start_cell):
+            raise PlanningError(
+                PlanErrorCode.START_OCCUPIED,
+                f"start cell {start_cell} has cost {costs[start_cell[1], start_cell[0]]}",
+            )
+        if self.params.tolerance > 0.0:
+            passable = (
+                np.frombuffer(graph.blocked, dtype=np.uint8).reshape(graph.height + 2, graph.width + 2)[
+                    1:-1, 1:-1
+                ]
+                == 0
+            )
+            candidates = tolerance_candidates(spec, goal, goal_cell, self.params.tolerance, passable)
+        else:
+            candidates = [goal_cell] if graph.passable(*goal_cell) else []
+        if not candidates:
+            raise PlanningError(
+                PlanErrorCode.GOAL_OCCUPIED,
+                f"goal cell {goal_cell} has cost {costs[goal_cell[1], goal_cell[0]]} and no "
+                f"free cell lies within tolerance {self.params.tolerance} m",
+            )
+        deadline = self._clock() + self.params.max_planning_time
+        try:
+            result = search(
+                graph,
+                graph.index(*start_cell),
+                graph.index(*candidates[0]),
+                self.params.use_astar,
+                self.params.max_iterations,
+                lambda: self._clock() > deadline,
+            )
+        except SearchTimeoutError as exc:
+            raise PlanningError(PlanErrorCode.TIMEOUT, str(exc)) from exc
+        target = result.reached
+        if target is None:
+            target = next((graph.index(*c) for c in candidates if result.was_expanded(graph.index(*c))), None)
+        if target is None:
+            raise PlanningError(
+                PlanErrorCode.NO_VALID_PATH,
+                f"no path from {start_cell} to {goal_cell} (tolerance {self.params.tolerance} m)",
+            )
+        points = cell_centres(spec, result.cells_to(graph, target))
+        if len(points) == 1:
+            points = np.vstack((points, points))
+        points[0] = (start.x, start.y)
+        if graph.cell(target) == goal_cell:
+            points[-1] = (goal.x, goal.y)
+        return build_path(points, goal.yaw, spec.resolution)

@@ -1,0 +1,294 @@
+"""DWB, Regulated Pure Pursuit, path handling, goal/progress checkers (pure cores, kinematic loops)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from nav_stack.core.control import (
+    ControllerErrorCode,
+    ControllerPlugins,
+    CostGrid,
+    DWBController,
+    GoalCheckerParams,
+    InvalidController,
+    InvalidPath,
+    NoValidControl,
+    PathHandler,
+    RegulatedPurePursuit,
+    RPPParams,
+    SimpleGoalChecker,
+    SimpleProgressChecker,
+    StoppedGoalChecker,
+    Twist2D,
+)
+from nav_stack.core.control.rpp import (
+    approach_scaled_speed,
+    curvature_to,
+    find_carrot,
+    obstacle_distance_from_cost,
+    regulated_speed,
+)
+from nav_stack.core.geometry import Pose2D, headings_along
+from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
+
+DT = 0.05  # 20 Hz controller
+
+
+def with_obstacle(
+    spec: GridSpec, x0: float, x1: float, y0: float, y1: float, radius: float = 0.22
+) -> CostGrid:
+    """Lethal box plus an inscribed (253) ring of ``radius`` and a decaying inflation beyond it."""
+    mx, my = np.meshgrid(np.arange(spec.width), np.arange(spec.height))
+    x, y = spec.cell_to_world(mx, my)
+    dx = np.maximum(np.maximum(x0 - x, x - x1), 0.0)
+    dy = np.maximum(np.maximum(y0 - y, y - y1), 0.0)
+    d = np.hypot(dx, dy)
+    costs = np.where(
+        d <= radius, INSCRIBED_INFLATED_OBSTACLE, np.floor(252 * np.exp(-3.0 * (d - radius))) * (d < 0.7)
+    ).astype(np.uint8)
+    costs[d == 0.0] = LETHAL_OBSTACLE
+    return CostGrid(costs, spec)
+
+
+def polyline_path(points: list[tuple[float, float]], spacing: float = 0.05) -> np.ndarray:
+    pts = np.asarray(points, dtype=float)
+    out = []
+    for a, b in itertools.pairwise(pts):
+        n = max(1, int(np.ceil(np.hypot(*(b - a)) / spacing)))
+        out.append(a + np.arange(n)[:, None] / n * (b - a))
+    xy = np.vstack([*out, pts[-1:]])
+    return np.column_stack((xy, headings_along(xy)))
+
+
+def unicycle(pose: Pose2D, cmd: Twist2D, dt: float = DT) -> Pose2D:
+    yaw = pose.yaw + cmd.wz * dt / 2
+    return Pose2D(
+        pose.x + cmd.vx * math.cos(yaw) * dt, pose.y + cmd.vx * math.sin(yaw) * dt, pose.yaw + cmd.wz * dt
+    )
+
+
+def drive(
+    controller: DWBController | RegulatedPurePursuit,
+    path: np.ndarray,
+    grid: CostGrid,
+    start: Pose2D,
+    goal_yaw: float,
+    max_steps: int = 1200,
+) -> tuple[Pose2D, bool, float]:
+    """Closed kinematic loop: path handler → controller → unicycle; returns end pose, reached, worst cost."""
+    path = path.copy()
+    path[-1, 2] = goal_yaw
+    handler = PathHandler()
+    handler.set_plan(path)
+    checker = SimpleGoalChecker()
+    pose, vel = start, Twist2D(0.0, 0.0)
+    worst = 0
+    for _ in range(max_steps):
+        if checker.is_goal_reached(pose, handler.goal, vel):
+            return pose, True, worst
+        local = handler.local_path(pose, Pose2D(0.0, 0.0, 0.0), grid)
+        vel = controller.compute_velocity(pose, vel, local, grid)
+        pose = unicycle(pose, vel)
+        worst = max(worst, int(grid.cost_at(pose.x, pose.y)))
+    return pose, False, worst
+
+
+# ------------------------------------------------------------------ DWB
+
+
+def test_dwb_avoids_an_obstacle_straight_ahead() -> None:
+    spec = GridSpec(60, 60, 0.05, -1.5, -1.5)
+    grid = with_obstacle(spec, 0.45, 0.6, -0.1, 0.1)
+    path = polyline_path([(0.0, 0.0), (1.4, 0.0)])
+    dwb = DWBController()
+    traj, scores = dwb.score(Pose2D(0.0, 0.0, 0.0), Twist2D(0.26, 0.0), path, grid)
+    ends = traj.poses[:, -1]
+    straight_fast = (np.abs(traj.commands[:, 1]) < 0.06) & (traj.commands[:, 0] > 0.2)
+    assert straight_fast.any() and np.all(np.isinf(scores[straight_fast])), (
+        "driving into the box must be rejected"
+    )
+    cmd = dwb.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.26, 0.0), path, grid)
+    chosen = dwb.last_trajectory
+    assert np.all(grid.cost_at(chosen[:, 0], chosen[:, 1]) < INSCRIBED_INFLATED_OBSTACLE)
+    assert np.isfinite(scores).any() and len(ends) == len(scores)
+    assert abs(cmd.wz) > 0.05 or cmd.vx < 0.2
+
+
+def test_dwb_rejects_everything_when_boxed_in() -> None:
+    spec = GridSpec(60, 60, 0.05, -1.5, -1.5)
+    grid = with_obstacle(spec, -0.05, 0.05, -0.05, 0.05, radius=0.3)  # robot sits inside the inscribed zone
+    path = polyline_path([(0.0, 0.0), (1.0, 0.0)])
+    with pytest.raises(NoValidControl) as err:
+        DWBController().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert err.value.code == ControllerErrorCode.NO_VALID_CONTROL == 106
+
+
+def test_dwb_follows_a_path_to_the_goal_in_a_kinematic_loop() -> None:
+    spec = GridSpec(80, 80, 0.05, -1.0, -1.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    path = polyline_path([(0.0, 0.0), (1.5, 0.0), (1.5, 1.5)])
+    pose, reached, _ = drive(DWBController(), path, grid, Pose2D(0.0, 0.0, 0.0), goal_yaw=math.pi / 2)
+    assert reached, f"DWB stopped at {pose}"
+    assert math.hypot(pose.x - 1.5, pose.y - 1.5) <= 0.25
+    assert abs(math.remainder(pose.yaw - math.pi / 2, 2 * math.pi)) <= 0.25
+
+
+def test_dwb_passes_an_obstacle_beside_the_path_without_collision() -> None:
+    spec = GridSpec(100, 60, 0.05, -0.5, -1.5)
+    grid = with_obstacle(spec, 1.0, 1.2, -0.8, -0.35)
+    path = polyline_path([(0.0, 0.0), (3.0, 0.0)])
+    _pose, reached, worst = drive(DWBController(), path, grid, Pose2D(0.0, 0.0, 0.0), goal_yaw=0.0)
+    assert reached and worst < INSCRIBED_INFLATED_OBSTACLE
+
+
+# ------------------------------------------------------------------ RPP formulas
+
+
+def test_rpp_carrot_and_curvature_by_hand() -> None:
+    path = polyline_path([(0.0, 0.3), (2.0, 0.3)])
+    carrot = find_carrot(path, 0.6)
+    assert carrot == pytest.approx([math.sqrt(0.6**2 - 0.3**2), 0.3], abs=1e-9)
+    assert curvature_to(carrot) == pytest.approx(2 * 0.3 / 0.36)
+    assert find_carrot(path[:3], 5.0) == pytest.approx(path[2, :2])  # path shorter than lookahead → its end
+
+
+def test_rpp_regulations_by_hand() -> None:
+    p = RPPParams()
+    # radius 0.5 m < 0.9 m: v = 0.5·(1 − 0.4/0.9) = 0.2778; free cell so no cost scaling
+    assert regulated_speed(p, 2.0, 0) == pytest.approx(0.5 * (1 - 0.4 / 0.9))
+    # radius 2 m: no curvature scaling; cost 126 → d = ln 2 / 3 + 0.22 = 0.451 m < 0.6 → v·d/0.6
+    d = obstacle_distance_from_cost(126, 0.22, 3.0)
+    assert d == pytest.approx(math.log(2) / 3 + 0.22)
+    assert regulated_speed(p, 0.5, 126) == pytest.approx(0.5 * d / 0.6)
+    # both scalings floor at regulated_linear_scaling_min_speed 0.25
+    assert regulated_speed(p, 10.0, 250) == pytest.approx(0.25)
+    # approach: 0.3 m left → scale 0.3 / 0.6; floored at 0.05
+    near_end = polyline_path([(0.0, 0.0), (0.3, 0.0)])
+    assert approach_scaled_speed(p, 0.5, near_end) == pytest.approx(0.25)
+    very_near = polyline_path([(0.0, 0.0), (0.02, 0.0)])
+    assert approach_scaled_speed(p, 0.5, very_near) == pytest.approx(0.05)
+    far = polyline_path([(0.0, 0.0), (2.0, 0.0)])
+    assert approach_scaled_speed(p, 0.5, far) == 0.5
+
+
+def test_rpp_command_is_v_times_curvature_and_rotates_on_large_heading_error() -> None:
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    rpp = RegulatedPurePursuit(RPPParams(use_collision_detection=False))
+    path = polyline_path([(0.0, 0.2), (1.8, 0.2)])
+    cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
+    kappa = curvature_to(rpp.last_carrot)
+    assert cmd.wz == pytest.approx(cmd.vx * kappa) and cmd.vx > 0.25
+    behind = polyline_path([(0.0, 0.0), (-1.5, 0.0)])
+    turn = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), behind, grid)
+    assert turn.vx == 0.0 and abs(turn.wz) == pytest.approx(3.2 * DT)  # rotate, limited by max_angular_accel
+
+
+def test_rpp_reaches_the_goal_and_its_heading_in_a_kinematic_loop() -> None:
+    spec = GridSpec(100, 100, 0.05, -1.0, -1.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    path = polyline_path([(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)])
+    pose, reached, _ = drive(RegulatedPurePursuit(), path, grid, Pose2D(0.0, 0.0, 0.0), goal_yaw=math.pi)
+    assert reached, f"RPP stopped at {pose}"
+    assert abs(math.remainder(pose.yaw - math.pi, 2 * math.pi)) <= 0.25
+
+
+def test_rpp_detects_a_collision_before_the_carrot() -> None:
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.4, 0.5, -0.3, 0.3)
+    path = polyline_path([(0.0, 0.0), (1.8, 0.0)])
+    with pytest.raises(NoValidControl):
+        RegulatedPurePursuit().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
+    far = with_obstacle(spec, 1.5, 1.6, -0.3, 0.3)  # beyond the carrot: no alarm
+    RegulatedPurePursuit().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, far)
+
+
+# ------------------------------------------------------------------ path handler
+
+
+def test_path_handler_prunes_cuts_and_transforms() -> None:
+    spec = GridSpec(40, 40, 0.05, -1.0, -1.0)  # 2 m local window around the odom origin
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    handler = PathHandler()
+    handler.set_plan(polyline_path([(10.0, 5.0), (14.0, 5.0)]))  # map frame
+    odom_from_map = Pose2D(-10.0, -5.0, 0.0)  # the map frame's pose in odom
+    local = handler.local_path(Pose2D(10.5, 5.0, 0.0), odom_from_map, grid)
+    assert local[0, 0] == pytest.approx(0.5)  # poses behind the robot are pruned
+    assert local[-1, 0] < 1.0 and len(local) == 10  # cut at the local costmap edge (x < 1.0)
+    assert handler.distance_to_goal(Pose2D(10.5, 5.0, 0.0)) == pytest.approx(3.5)
+    with pytest.raises(InvalidPath):
+        handler.set_plan(np.zeros((0, 3)))
+
+
+def test_plugins_are_selected_by_id() -> None:
+    plugins = ControllerPlugins(
+        {"FollowPath": DWBController()},
+        {"general_goal_checker": SimpleGoalChecker()},
+        {"progress_checker": SimpleProgressChecker()},
+    )
+    controller, _, _ = plugins.select("", "general_goal_checker", "")
+    assert isinstance(controller, DWBController)
+    with pytest.raises(InvalidController) as err:
+        plugins.select("Nope", "", "")
+    assert err.value.code == ControllerErrorCode.INVALID_CONTROLLER
+
+
+# ------------------------------------------------------------------ checkers
+
+
+def test_stateful_goal_checker_latches_xy() -> None:
+    goal = Pose2D(1.0, 0.0, 0.0)
+    still = Twist2D(0.0, 0.0)
+    checker = SimpleGoalChecker()
+    assert not checker.is_goal_reached(Pose2D(0.9, 0.0, 1.0), goal, still)  # xy ok, yaw off
+    assert checker.xy_reached
+    assert checker.is_goal_reached(Pose2D(0.6, 0.0, 0.1), goal, still)  # drifted out while rotating: latched
+    stateless = SimpleGoalChecker(GoalCheckerParams(stateful=False))
+    stateless.is_goal_reached(Pose2D(0.9, 0.0, 1.0), goal, still)
+    assert not stateless.is_goal_reached(Pose2D(0.6, 0.0, 0.1), goal, still)
+    checker.reset()
+    assert not checker.is_goal_reached(Pose2D(0.6, 0.0, 0.1), goal, still)
+    symmetric = SimpleGoalChecker(GoalCheckerParams(symmetric_yaw_tolerance=True))
+    assert symmetric.is_goal_reached(Pose2D(1.0, 0.0, math.pi - 0.1), goal, still)
+
+
+def test_stopped_goal_checker_needs_low_velocity() -> None:
+    goal = Pose2D(0.0, 0.0, 0.0)
+    checker = StoppedGoalChecker()
+    assert not checker.is_goal_reached(goal, goal, Twist2D(0.3, 0.0))
+    assert not checker.is_goal_reached(goal, goal, Twist2D(0.0, 0.3))
+    assert checker.is_goal_reached(goal, goal, Twist2D(0.2, 0.2))
+
+
+def test_progress_checker_semantics() -> None:
+    checker = SimpleProgressChecker()
+    assert checker.check(Pose2D(0.0, 0.0, 0.0), 0.0)
+    assert checker.check(Pose2D(0.4, 0.0, 0.0), 9.0)  # within radius, within allowance
+    assert not checker.check(Pose2D(0.4, 0.0, 3.0), 10.5)  # rotating is not progress
+    assert checker.check(Pose2D(0.6, 0.0, 0.0), 11.0)  # left the radius: new window
+    assert checker.check(Pose2D(0.6, 0.0, 0.0), 20.9)
+    assert not checker.check(Pose2D(0.6, 0.0, 0.0), 21.1)
+
+
+def test_final_rotation_at_goal_is_not_lack_of_progress() -> None:
+    """The controller-server protocol: reset the progress checker while xy of the goal is reached."""
+    goal = Pose2D(0.0, 0.0, math.pi)
+    goal_checker, progress = (
+        SimpleGoalChecker(GoalCheckerParams(yaw_goal_tolerance=0.05)),
+        SimpleProgressChecker(),
+    )
+    pose = Pose2D(0.1, 0.0, 0.0)
+    for k in range(400):  # 40 s of slow rotation at 0.1 rad/s inside the xy tolerance
+        now = 0.1 * k
+        if goal_checker.is_goal_reached(pose, goal, Twist2D(0.0, 0.1)):
+            break
+        if goal_checker.xy_reached:
+            progress.reset()
+        assert progress.check(pose, now), f"progress failure while rotating at the goal, t={now}"
+        pose = Pose2D(pose.x, pose.y, pose.yaw + 0.01)
+    else:
+        pytest.fail("never reached the goal heading")
