@@ -1,0 +1,99 @@
+"""Costmap update times: a local rolling costmap per scan and full / incremental global inflation.
+
+* local: Jazzy local costmap (odom, 3 m × 3 m rolling window at 0.05 m, obstacle + inflation,
+  robot_radius 0.22, inflation 0.70, csf 3.0); each call feeds one 360-beam scan and moves the robot
+  by about one cell, so the window shifts and is redrawn (the steady state while driving).
+* global full: a 2000 × 2000 map (100 m at 0.05 m) with random boxes, static + inflation, first
+  update after the map arrives (whole-map inflation). Nav2 docs quote 48.9 ms single-thread in C++
+  for a 2000 × 2000 grid with a 2 m radius (Kilted+).
+* global incremental: the same map, one 360-beam scan into the obstacle layer; only the touched
+  window (plus two inflation radii) is recomputed.
+
+Run: ``.venv/bin/python -m bench.bench_costmap`` (``--no-record`` to only print).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bench.harness import Benchmark
+from nav_stack.core.costmap import (
+    CostmapParams,
+    InflationLayer,
+    LaserScan,
+    LayeredCostmap,
+    ObstacleLayer,
+    StaticLayer,
+)
+from nav_stack.core.grid import GridSpec
+
+
+def random_map(size: int, boxes: int, seed: int) -> tuple[np.ndarray, GridSpec]:
+    spec = GridSpec(size, size, 0.05)
+    rng = np.random.default_rng(seed)
+    occ = np.zeros(spec.shape, dtype=np.int8)
+    occ[:2, :] = occ[-2:, :] = occ[:, :2] = occ[:, -2:] = 100
+    for _ in range(boxes):
+        x, y = rng.integers(0, size - 40, 2)
+        w, h = rng.integers(2, 40, 2)
+        occ[y : y + h, x : x + w] = 100
+    return occ, spec
+
+
+def ring_scan(radius: float) -> LaserScan:
+    ranges = np.full(360, radius) + 0.3 * np.sin(np.arange(360) * 0.1)
+    return LaserScan(ranges, 0.0, 2 * math.pi / 360, 0.12, 3.5)
+
+
+def main() -> None:
+    bench = Benchmark("costmap")
+    local_params = CostmapParams.local_defaults()
+    obstacle = ObstacleLayer(local_params)
+    local = LayeredCostmap(local_params, [obstacle, InflationLayer()])
+    scan = ring_scan(1.2)
+    step = [0]
+
+    def local_update() -> None:
+        step[0] += 1
+        pose = (0.05 * step[0], 0.02 * step[0], 0.0)
+        obstacle.add_scan(scan, pose)
+        local.update(pose)
+
+    stats = bench.time("local costmap update per scan", local_update, repeat=200, warmup=10)
+    bench.record("local costmap update per scan (3x3 m, 360 beams, rolling)", stats, "ms", 1e3)
+
+    occ, spec = random_map(2000, 3000, seed=1)
+    params = CostmapParams()
+
+    def full_global() -> None:
+        costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
+        costmap.set_map(occ, spec)
+        costmap.update((50.0, 50.0, 0.0))
+
+    stats = bench.time("global 2000x2000 full inflation", full_global, repeat=10, warmup=1)
+    bench.record(
+        "global 2000x2000 full update (static + inflation 0.7 m)",
+        stats,
+        "ms",
+        1e3,
+        note=f"{int((occ == 100).mean() * 100)} % lethal cells",
+    )
+
+    g_obstacle = ObstacleLayer(params)
+    costmap = LayeredCostmap(params, [StaticLayer(params), g_obstacle, InflationLayer()])
+    costmap.set_map(occ, spec)
+    costmap.update((50.0, 50.0, 0.0))
+
+    def incremental() -> None:
+        g_obstacle.add_scan(scan, (50.0, 50.0, 0.0))
+        costmap.update((50.0, 50.0, 0.0))
+
+    stats = bench.time("global 2000x2000 incremental scan update", incremental, repeat=50, warmup=3)
+    bench.record("global 2000x2000 incremental update per scan (static+obstacle+inflation)", stats, "ms", 1e3)
+    bench.save()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,126 @@
+"""InflationLayer: costs that fall off with distance from lethal cells (nav2 InflationLayer).
+
+For a cell at distance d (m, cell centre to cell centre) from the nearest LETHAL cell of the
+master grid: d = 0 → 254; d ≤ inscribed radius → 253; else ⌊252·exp(−cost_scaling_factor·(d − r_in))⌋,
+for cells up to ``ceil(inflation_radius / resolution)`` cells away (Nav2's cell radius). A cell
+keeps the larger of its own and the inflated cost; an unknown cell (255) takes the inflated cost only
+when it is ≥ 253 (or > 0 with ``inflate_unknown``).
+
+Distances come from the bounded exact transform in :mod:`distance`, as squared cell counts, so a
+lookup table indexed by d² turns them into costs without a square root. Updates are incremental:
+the layer grows the update window by the inflation radius, and inflates it from the lethal cells
+of the window grown by the radius once more, which is exactly the set of cells that can change.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.costmap.distance import squared_distance_cells
+from nav_stack.core.costmap.footprint import Footprint
+from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window
+from nav_stack.core.costmap.params import InflationLayerParams
+from nav_stack.core.grid import (
+    INSCRIBED_INFLATED_OBSTACLE,
+    LETHAL_OBSTACLE,
+    MAX_NON_OBSTACLE,
+    NO_INFORMATION,
+    GridSpec,
+)
+
+
+def inflation_cost(
+    distance_m: npt.ArrayLike, inscribed_radius: float, cost_scaling_factor: float
+) -> CostArray:
+    """Nav2's computeCost for distances (m) from the nearest lethal cell (no radius cut-off)."""
+    d = np.asarray(distance_m, dtype=np.float64)
+    decayed = np.floor(MAX_NON_OBSTACLE * np.exp(-cost_scaling_factor * (d - inscribed_radius)))
+    cost = np.where(d <= inscribed_radius, INSCRIBED_INFLATED_OBSTACLE, np.minimum(decayed, MAX_NON_OBSTACLE))
+    return np.where(d == 0.0, LETHAL_OBSTACLE, cost).astype(np.uint8)
+
+
+def cell_inflation_radius(inflation_radius: float, resolution: float) -> int:
+    """Inflation radius in cells, rounded up like Costmap2D::cellDistance."""
+    return max(0, math.ceil(inflation_radius / resolution - 1e-9))
+
+
+class InflationLayer(Layer):
+    """Inflates the master grid's lethal cells by the robot's inscribed radius and a decay."""
+
+    def __init__(self, params: InflationLayerParams | None = None, name: str = "inflation_layer") -> None:
+        self.name = name
+        self.params = params or InflationLayerParams()
+        self.enabled = self.params.enabled
+        self._inscribed = 0.0
+        self._spec: GridSpec | None = None
+        self._radius_cells = 0
+        self._table: CostArray = np.zeros(1, dtype=np.uint8)
+        self._need_full = True
+
+    @property
+    def inscribed_radius(self) -> float:
+        return self._inscribed
+
+    @property
+    def radius_cells(self) -> int:
+        return self._radius_cells
+
+    def _rebuild_table(self) -> None:
+        if self._spec is None:
+            return
+        r = cell_inflation_radius(self.params.inflation_radius, self._spec.resolution)
+        self._radius_cells = r
+        d2 = np.arange(r * r + 2, dtype=np.float64)
+        table = inflation_cost(np.sqrt(d2) * self._spec.resolution, self._inscribed,
+                               self.params.cost_scaling_factor)
+        table[d2 > r * r] = 0
+        self._table = table
+        self._need_full = True
+
+    def on_resize(self, spec: GridSpec) -> None:
+        self._spec = spec
+        self._rebuild_table()
+
+    def on_shift(self, spec: GridSpec, dx: int, dy: int) -> None:
+        self._spec = spec
+        self._need_full = True
+
+    def on_footprint(self, footprint: Footprint) -> None:
+        self._inscribed = footprint.inscribed_radius
+        self._rebuild_table()
+
+    def update_bounds(self, robot_pose: Pose2D, bounds: Window) -> Window:
+        if self._spec is None or not self.enabled:
+            return bounds
+        if self._need_full:
+            self._need_full = False
+            return Window.full(self._spec)
+        return bounds.expanded(self._radius_cells)
+
+    def costs_for(self, master: CostArray, window: Window) -> CostArray:
+        """Inflation costs inside ``window`` from the lethal cells of ``master`` (read-only)."""
+        assert self._spec is not None
+        r = self._radius_cells
+        region = window.expanded(r).clipped(self._spec)
+        d2 = squared_distance_cells(master[region.slices] == LETHAL_OBSTACLE, r)
+        oy, ox = window.y0 - region.y0, window.x0 - region.x0
+        inner = d2[oy : oy + window.y1 - window.y0, ox : ox + window.x1 - window.x0]
+        costs: CostArray = self._table[inner]
+        return costs
+
+    def update_costs(self, master: CostArray, window: Window) -> None:
+        if self._spec is None or not self.enabled or window.is_empty:
+            return
+        cost = self.costs_for(master, window)
+        old = master[window.slices]
+        threshold = 1 if self.params.inflate_unknown else INSCRIBED_INFLATED_OBSTACLE
+        unknown = old == NO_INFORMATION
+        merged = np.maximum(old, cost)
+        merged[unknown] = np.where(cost[unknown] >= threshold, cost[unknown], NO_INFORMATION)
+        old[...] = merged
+
+    def reset(self) -> None:
+        self._need_full = True

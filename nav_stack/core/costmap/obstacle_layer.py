@@ -1,0 +1,129 @@
+"""ObstacleLayer: marks laser returns as lethal and clears the space the beams crossed.
+
+Semantics of nav2_costmap_2d::ObstacleLayer with one laser source: at each update all queued
+scans first clear (ray tracing from the sensor up to ``raytrace_max_range``, skipping the first
+``raytrace_min_range``, the return's own cell excluded), then mark returns whose distance lies in
+``[obstacle_min_range, obstacle_max_range)``. Readings outside the scan's ``[range_min, range_max)``
+or NaN are dropped; +inf clears up to ``range_max`` only when ``inf_is_valid``. With
+``footprint_clearing_enabled`` the cells under the robot are set free. The layer keeps its own
+grid (unknown until seen when ``track_unknown_space``) and merges it into the master by maximum
+(``combination_method`` 1) or by overwriting with known cells (0).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from nav_stack.core.costmap.footprint import Footprint
+from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window, shifted
+from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.costmap.params import CostmapParams, ObstacleLayerParams
+from nav_stack.core.costmap.raytrace import trace_cells
+from nav_stack.core.grid import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
+
+
+@dataclass(frozen=True)
+class _Observation:
+    scan: LaserScan
+    sensor_pose: Pose2D
+
+
+class ObstacleLayer(Layer):
+    """Keeps a grid of seen obstacles and free space, fed by laser scans."""
+
+    def __init__(self, costmap_params: CostmapParams, params: ObstacleLayerParams | None = None,
+                 name: str = "obstacle_layer") -> None:
+        self.name = name
+        self.params = params or ObstacleLayerParams()
+        self.enabled = self.params.enabled
+        self._default = NO_INFORMATION if costmap_params.track_unknown_space else FREE_SPACE
+        self._spec: GridSpec | None = None
+        self._grid: CostArray | None = None
+        self._queue: list[_Observation] = []
+        self._footprint: Footprint | None = None
+
+    @property
+    def grid(self) -> CostArray:
+        """The layer's own costs (LETHAL, FREE or its default per cell)."""
+        if self._grid is None:
+            raise RuntimeError(f"{self.name}: the costmap has no grid yet")
+        return self._grid
+
+    def add_scan(self, scan: LaserScan, sensor_pose: Pose2D) -> None:
+        """Queue a scan taken from ``sensor_pose`` (x, y, yaw in the costmap's frame) for the next update."""
+        self._queue.append(_Observation(scan, sensor_pose))
+
+    def on_resize(self, spec: GridSpec) -> None:
+        self._spec = spec
+        self._grid = np.full(spec.shape, self._default, dtype=np.uint8)
+
+    def on_shift(self, spec: GridSpec, dx: int, dy: int) -> None:
+        self._spec = spec
+        self._grid = shifted(self.grid, dx, dy, self._default)
+
+    def on_footprint(self, footprint: Footprint) -> None:
+        self._footprint = footprint
+
+    def _beams(self, obs: _Observation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Ranges, frame angles and a 'is a real return' flag of the usable beams of one scan."""
+        scan, p = obs.scan, self.params
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        angles = scan.angles + obs.sensor_pose[2]
+        finite = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges < scan.range_max)
+        use = finite | (np.isposinf(ranges) & p.inf_is_valid)
+        lengths = np.where(finite, ranges, scan.range_max)[use]
+        return lengths, angles[use], finite[use]
+
+    def _process(self) -> Window:
+        spec, grid, p = self._spec, self.grid, self.params
+        assert spec is not None
+        changed = Window.empty()
+        beams = [(obs, *self._beams(obs)) for obs in self._queue]
+        if p.clearing:
+            for obs, lengths, angles, _ in beams:
+                origin = (obs.sensor_pose[0], obs.sensor_pose[1])
+                mx, my = trace_cells(spec, origin, np.minimum(lengths, p.raytrace_max_range), angles,
+                                     p.raytrace_min_range)
+                grid[my, mx] = FREE_SPACE
+                ox, oy = spec.world_to_cell(origin[0], origin[1])
+                changed = changed.union(Window.around(np.append(mx, ox), np.append(my, oy)))
+        if p.marking:
+            for obs, lengths, angles, real in beams:
+                mark = real & (lengths < p.obstacle_max_range) & (lengths >= p.obstacle_min_range)
+                wx = obs.sensor_pose[0] + lengths[mark] * np.cos(angles[mark])
+                wy = obs.sensor_pose[1] + lengths[mark] * np.sin(angles[mark])
+                mx, my = spec.world_to_cell(wx, wy)
+                inside = spec.in_bounds(mx, my)
+                grid[my[inside], mx[inside]] = LETHAL_OBSTACLE
+                changed = changed.union(Window.around(mx[inside], my[inside]))
+        self._queue.clear()
+        return changed
+
+    def update_bounds(self, robot_pose: Pose2D, bounds: Window) -> Window:
+        if self._spec is None or not self.enabled:
+            self._queue.clear()
+            return bounds
+        changed = self._process()
+        if self.params.footprint_clearing_enabled and self._footprint is not None:
+            my, mx = self._footprint.cells_at(self._spec, *robot_pose)
+            self.grid[my, mx] = FREE_SPACE
+            changed = changed.union(Window.around(mx, my))
+        return bounds.union(changed.clipped(self._spec))
+
+    def update_costs(self, master: CostArray, window: Window) -> None:
+        if self._grid is None or not self.enabled:
+            return
+        rows, cols = window.slices
+        layer = self._grid[rows, cols]
+        region = master[rows, cols]
+        known = layer != NO_INFORMATION
+        if self.params.combination_method == 1:
+            known &= (region == NO_INFORMATION) | (region < layer)
+        region[known] = layer[known]
+
+    def reset(self) -> None:
+        self._queue.clear()
+        if self._grid is not None:
+            self._grid.fill(self._default)
