@@ -1,0 +1,74 @@
+"""``ros2py``: the ros2 CLI verbs for a pip-installed ROS 2 (``ros2py topic echo /odom`` ...).
+
+Each verb group lives in its own module and registers its argparse subcommands; a verb is a
+``handler(args, session) -> exit code`` (verbs that set ``offline`` get no ROS session).
+A group given without a verb prints the group's help (its parser is in ``help_parser``).
+User errors (unknown names or types, malformed YAML, timeouts) print one line on stderr and
+exit with 1; Ctrl-C (SIGINT) or SIGTERM ends streaming verbs with 0.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+
+from ros_tools.cli import action, interface, node, param, service, topic
+from ros_tools.cli.common import CliError, ros_session
+
+_GROUPS = (topic, node, service, action, param, interface)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every verb group."""
+    parser = argparse.ArgumentParser(
+        prog="ros2py", description="ROS 2 command-line tools for a pip-installed ROS 2 (no ros2cli needed).",
+    )
+    groups = parser.add_subparsers(dest="group", metavar="COMMAND")
+    for group in _GROUPS:
+        group.register(groups)
+    return parser
+
+
+def _raise_interrupt(_signum: int, _frame: object) -> None:
+    raise KeyboardInterrupt
+
+
+def _interrupt_on_signals() -> None:
+    """Make SIGINT and SIGTERM end a verb through KeyboardInterrupt, so it can clean up.
+
+    A child started from a non-interactive shell in the background inherits an ignored SIGINT;
+    restoring it lets supervisors and tests stop streaming verbs (echo, hz, pub) with SIGINT.
+    """
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGTERM, _raise_interrupt)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse ``argv``, run the verb, and turn user errors into one line on stderr and exit code 1."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handler = getattr(args, "handler", None)
+    if handler is None:
+        getattr(args, "help_parser", parser).print_help(sys.stderr)
+        return 1
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    _interrupt_on_signals()
+    try:
+        if getattr(args, "offline", False):
+            return int(handler(args, None))
+        with ros_session() as session:
+            return int(handler(args, session))
+    except CliError as exc:
+        print(exc, file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 0
+    except BrokenPipeError:  # e.g. `ros2py topic echo /scan | head`
+        sys.stderr.close()
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,117 @@
+"""Fixtures for the ros2py CLI tests: live nodes spun in a background thread, and CLI runners.
+
+The CLI runs as a child process (``python -m ros_tools.cli.main``) that inherits the test's
+ROS_DOMAIN_ID, exactly as a user's shell would run ``ros2py``.
+"""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import threading
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+
+import pytest
+
+from tests.helpers.ros import start_python, wait_until
+
+CLI = "ros_tools.cli.main"
+#: Generous bounds for a loaded 2-core machine; a passing run is much faster.
+DISCOVERY = ["--timeout", "15"]
+PROCESS_TIMEOUT = 40.0
+
+
+@dataclass
+class CliResult:
+    """Exit code and combined stdout+stderr of one finished CLI run."""
+
+    code: int
+    output: str
+
+    @property
+    def lines(self) -> list[str]:
+        return self.output.splitlines()
+
+
+def run_cli(*args: str, timeout: float = PROCESS_TIMEOUT) -> CliResult:
+    """Run ``ros2py <args>`` to completion."""
+    proc = start_python(CLI, args)
+    try:
+        output, _ = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        output, _ = proc.communicate()
+        raise AssertionError(f"ros2py {' '.join(args)} did not finish in {timeout} s:\n{output}") from None
+    return CliResult(proc.returncode, output)
+
+
+@dataclass
+class StreamingCli:
+    """A running streaming verb (echo, hz, pub) whose output lines are collected as they come."""
+
+    proc: subprocess.Popen[str]
+    lines: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip("\n"))
+
+    def wait_for(self, predicate: Callable[[list[str]], bool], timeout: float, what: str) -> None:
+        wait_until(lambda: predicate(self.lines) or self.proc.poll() is not None, timeout, what)
+        assert predicate(self.lines), f"{what}; the CLI exited early:\n" + "\n".join(self.lines)
+
+    def interrupt(self, timeout: float = 10.0) -> int:
+        """Send SIGINT (Ctrl-C) and return the exit code."""
+        self.proc.send_signal(signal.SIGINT)
+        code = self.proc.wait(timeout=timeout)
+        self._reader.join(timeout=timeout)
+        return code
+
+
+@pytest.fixture
+def stream_cli() -> Iterator[Callable[..., StreamingCli]]:
+    """Start streaming CLI runs; any still running at the end are killed."""
+    started: list[StreamingCli] = []
+
+    def start(*args: str) -> StreamingCli:
+        run = StreamingCli(start_python(CLI, args))
+        started.append(run)
+        return run
+
+    yield start
+    for run in started:
+        if run.proc.poll() is None:
+            run.proc.kill()
+            run.proc.wait()
+
+
+@pytest.fixture
+def spinning(ros_context) -> Iterator[Callable[[str], object]]:
+    """Create nodes on the test's context, spun by a MultiThreadedExecutor in a background thread."""
+    import rclpy
+    from rclpy.executors import MultiThreadedExecutor
+
+    executor = MultiThreadedExecutor(context=ros_context)
+    nodes = []
+
+    def make_node(name: str, **kwargs: object) -> object:
+        node = rclpy.create_node(name, context=ros_context, **kwargs)
+        nodes.append(node)
+        executor.add_node(node)
+        return node
+
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()  # adding a node later wakes the executor up
+    try:
+        yield make_node
+    finally:
+        executor.shutdown(timeout_sec=5.0)
+        thread.join(timeout=5.0)
+        for node in nodes:
+            node.destroy_node()
