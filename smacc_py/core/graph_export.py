@@ -56,7 +56,9 @@ def to_mermaid(sm: type | StateMachineDescription) -> str:
 
 
 def _quote(text: str) -> str:
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    """A dot string literal; real newlines become dot's line-break escape."""
+    escaped = text.replace("\\", "\\\\").replace('"', '\\"')
+    return '"' + escaped.replace("\n", "\\n") + '"'
 
 
 def to_dot(sm: type | StateMachineDescription) -> str:
@@ -74,7 +76,7 @@ def to_dot(sm: type | StateMachineDescription) -> str:
 
     def emit(state: StateDescription, indent: str) -> None:
         parts = _parts(state)
-        label = "\\n".join([state.name, *parts])
+        label = "\n".join([state.name, *parts])
         if state.children_states:
             lines.append(f"{indent}subgraph {_quote('cluster_' + state.name)} {{")
             lines.append(f"{indent}    label={_quote(label)};")

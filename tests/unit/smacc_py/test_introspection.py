@@ -84,3 +84,10 @@ def test_observer_sees_transitions_in_order_with_tag_and_event() -> None:
         (4, "MsRecovery", "MsRun", "SUCCESS", "StiDeepA", "EvResume"),
     ]
     assert records == list(sm.transition_log)
+
+
+def test_dot_labels_break_lines_with_dot_escapes_not_literal_backslashes():
+    from smacc_py.core.graph_export import _quote
+
+    assert _quote("StA\nOrX: CbY") == '"StA\\nOrX: CbY"'
+    assert _quote('say "hi" \\ bye') == '"say \\"hi\\" \\\\ bye"'

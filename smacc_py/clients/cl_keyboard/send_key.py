@@ -1,0 +1,54 @@
+"""``smacc-key <key> [--topic /keyboard_unicode]``: press a key for a running state machine.
+
+Publishes the key's code point as std_msgs/UInt16, like SMACC2's keyboard_server_node, after waiting
+(up to ``--wait`` s) for a subscriber so the key is not lost; exits 1 when nobody listens.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from collections.abc import Sequence
+
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="smacc-key", description=__doc__.splitlines()[0])
+    parser.add_argument("key", help="one character, e.g. n")
+    parser.add_argument("--topic", default="/keyboard_unicode")
+    parser.add_argument("--wait", type=float, default=5.0, help="seconds to wait for a subscriber")
+    options = parser.parse_args(argv)
+    if len(options.key) != 1:
+        print(f"smacc-key: give exactly one character, got {options.key!r}", file=sys.stderr)
+        return 2
+    import rclpy
+    from rclpy.duration import Duration
+    from std_msgs.msg import UInt16
+
+    rclpy.init()
+    node = rclpy.create_node("smacc_key")
+    try:
+        publisher = node.create_publisher(UInt16, options.topic, 10)
+        deadline = time.monotonic() + options.wait
+        while publisher.get_subscription_count() == 0:
+            if time.monotonic() > deadline:
+                print(
+                    f"smacc-key: nobody subscribes {options.topic} (waited {options.wait:.0f} s)",
+                    file=sys.stderr,
+                )
+                return 1
+            time.sleep(0.05)
+        publisher.publish(UInt16(data=ord(options.key)))
+        publisher.wait_for_all_acked(Duration(seconds=options.wait))
+        print(f"smacc-key: sent {options.key!r} on {options.topic}")
+        return 0
+    finally:
+        node.destroy_node()
+        rclpy.shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

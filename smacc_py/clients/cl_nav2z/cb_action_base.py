@@ -1,0 +1,94 @@
+"""``CbNav2ZActionBase``: an async behavior that sends one ClNav2Z action goal and reports its end.
+
+``on_entry`` (its own thread) waits up to ``server_wait_s`` (wall s, discovery is wall-clock) for the
+action server, builds the goal (``make_goal`` returns (action key, goal) or None after posting its own
+failure), sends it and returns. The goal's end posts ``EvCbSuccess`` or ``EvCbFailure[Cb, Or]`` with the
+ticket's ``error_code``/``error_msg`` as payload (ClNav2Z posts its EvAction* events as well).
+Unlike SMACC2, a goal still running when the state exits is cancelled (and disowned). Behaviors with
+``record_path`` (global, forward and backward navigation, as in SMACC2) push a new CpOdomTracker path
+and record into it while their goal runs, so CbUndoPathBackwards can undo the motion.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any, TypeVar
+
+from smacc_py.clients.cl_nav2z.client import ClNav2Z
+from smacc_py.clients.cl_nav2z.cp_odom_tracker import CpOdomTracker
+from smacc_py.clients.cl_nav2z.odom_path import WorkingMode
+from smacc_py.core import SmaccAsyncClientBehavior, SmaccLookupError
+from smacc_py.ros.action_client import GoalOutcome, GoalTicket
+
+C = TypeVar("C")
+
+
+class CbNav2ZActionBase(SmaccAsyncClientBehavior):
+    """Subclasses implement ``make_goal``; optionally ``on_goal_done`` for bookkeeping."""
+
+    server_wait_s: float = 10.0
+    record_path: bool = False
+    ticket: GoalTicket | None = None
+
+    def make_goal(self) -> tuple[str, Any] | None:
+        """(action key, goal message), or None when the behavior already posted a failure."""
+        raise NotImplementedError
+
+    def optional_component(self, component_type: type[C]) -> C | None:
+        """A component if some client has one, else None."""
+        try:
+            return self.requires_component(component_type)
+        except SmaccLookupError:
+            return None
+
+    def on_entry(self) -> None:
+        self.client = self.requires_client(ClNav2Z)
+        planned = self.make_goal()
+        if planned is None:
+            return
+        key, goal = planned
+        action = self.client.action_client(key)
+        deadline = time.monotonic() + self.server_wait_s
+        while not action.server_ready():
+            if self.wait_for_shutdown(0.05):
+                return
+            if time.monotonic() > deadline:
+                self.post_failure_event(
+                    error_code=0,
+                    error_msg="",
+                    reason=f"action server '{action.action_name}' not available after "
+                    f"{self.server_wait_s:.0f} s",
+                )
+                return
+        if self.is_shutdown_requested():
+            return
+        tracker = self.optional_component(CpOdomTracker) if self.record_path else None
+        if tracker is not None:
+            tracker.push_path(type(self.state).__name__)
+            tracker.set_working_mode(WorkingMode.RECORD_PATH)
+        self.ticket = self.client.send_goal(key, goal, on_done=self._on_done)
+
+    def _stop_recording(self) -> None:
+        tracker = self.optional_component(CpOdomTracker) if self.record_path else None
+        if tracker is not None:
+            tracker.set_working_mode(WorkingMode.IDLE)
+
+    def _on_done(self, ticket: GoalTicket) -> None:
+        self._stop_recording()
+        if ticket.abandoned:
+            return
+        self.on_goal_done(ticket)
+        payload = {"error_code": ticket.error_code, "error_msg": ticket.error_msg, "result": ticket.result}
+        if ticket.outcome is GoalOutcome.SUCCEEDED:
+            self.post_success_event(**payload)
+        else:
+            self.post_failure_event(reason=ticket.describe(), **payload)
+
+    def on_goal_done(self, ticket: GoalTicket) -> None:
+        """Hook called before the success/failure event (on the executor thread; must be quick)."""
+
+    def on_exit(self) -> None:
+        ticket = self.ticket
+        if ticket is not None and not ticket.done:
+            ticket.abandon()
+            self._stop_recording()

@@ -1,0 +1,122 @@
+"""Goal-pose navigation behaviors on NavigateToPose: CbNavigateGlobalPosition, CbNavigateNextWaypoint,
+CbStopNavigation, CbAbortNavigation."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from action_msgs.srv import CancelGoal
+from nav2_msgs.action import NavigateToPose
+
+from smacc_py.clients.cl_nav2z.cb_action_base import CbNav2ZActionBase
+from smacc_py.clients.cl_nav2z.client import NAVIGATE_TO_POSE, ClNav2Z
+from smacc_py.clients.cl_nav2z.cp_pose import CpPose, make_pose_stamped
+from smacc_py.clients.cl_nav2z.cp_switchers import CpGoalCheckerSwitcher, CpPlannerSwitcher
+from smacc_py.clients.cl_nav2z.cp_waypoint_navigator import CpWaypointNavigator
+from smacc_py.core import SmaccClientBehavior
+from smacc_py.ros.action_client import GoalOutcome, GoalTicket
+from smacc_py.ros.context import ros_context
+
+
+class CbNavigateGlobalPosition(CbNav2ZActionBase):
+    """Navigate to (x, y in m, yaw in rad) in the CpPose reference frame (map) with Nav2's default
+    planner/controller and goal checker; records the path in CpOdomTracker while moving.
+
+    A state may change the goal in its ``runtime_configure`` with ``set_goal`` (e.g. from parameters).
+    """
+
+    def __init__(
+        self,
+        x: float,
+        y: float,
+        yaw: float = 0.0,
+        *,
+        goal_checker: str | None = None,
+        frame_id: str | None = None,
+    ) -> None:
+        self.goal = (float(x), float(y), float(yaw))
+        self.goal_checker, self.frame_id = goal_checker, frame_id
+
+    def set_goal(self, x: float, y: float, yaw: float) -> None:
+        """Replace the goal (before ``on_entry``)."""
+        self.goal = (float(x), float(y), float(yaw))
+
+    def goal_frame(self) -> str:
+        """The frame of the goal: ``frame_id``, else CpPose's reference frame, else map."""
+        if self.frame_id:
+            return self.frame_id
+        pose = self.optional_component(CpPose)
+        return pose.reference_frame if pose is not None else "map"
+
+    record_path = True
+
+    def prepare(self) -> None:
+        """Select Nav2's default planner/controller and the goal checker."""
+        switcher = self.optional_component(CpPlannerSwitcher)
+        if switcher is not None:
+            switcher.set_default_planners()
+        checker = self.optional_component(CpGoalCheckerSwitcher)
+        if checker is not None:
+            checker.set_goal_checker_id(self.goal_checker)
+
+    def make_goal(self) -> tuple[str, Any] | None:
+        self.prepare()
+        pose = make_pose_stamped(self.goal_frame(), *self.goal, stamp=self.sm.now())
+        return NAVIGATE_TO_POSE, NavigateToPose.Goal(pose=pose)
+
+
+class CbNavigateNextWaypoint(CbNavigateGlobalPosition):
+    """Navigate to the waypoint under CpWaypointNavigator's cursor; success posts EvWaypoint<i>."""
+
+    def __init__(self, *, goal_checker: str | None = None) -> None:
+        super().__init__(0.0, 0.0, 0.0, goal_checker=goal_checker)
+        self.index = -1
+
+    def make_goal(self) -> tuple[str, Any] | None:
+        current = self.requires_component(CpWaypointNavigator).current()
+        if current is None:
+            self.post_failure_event(reason="no waypoint left (cursor past the end)")
+            return None
+        self.index, waypoint = current
+        self.set_goal(waypoint.x, waypoint.y, waypoint.yaw)
+        return super().make_goal()
+
+    def on_goal_done(self, ticket: GoalTicket) -> None:
+        if ticket.outcome is GoalOutcome.SUCCEEDED:
+            self.requires_component(CpWaypointNavigator).on_reached(self.index)
+
+
+class CbAbortNavigation(SmaccClientBehavior):
+    """Cancel every goal of the navigate_to_pose server (CancelGoal with zero id and stamp), then succeed.
+
+    Without a server there is nothing to cancel: success with a ``reason``.
+    """
+
+    def on_entry(self) -> None:
+        client = self.requires_client(ClNav2Z)
+        client.cancel_navigation()
+        ctx = ros_context(self.sm)
+        name = f"{client.action_names[NAVIGATE_TO_POSE]}/_action/cancel_goal"
+        self._service = ctx.node.create_client(CancelGoal, name, callback_group=ctx.callback_group)
+        if not self._service.service_is_ready():
+            self.post_success_event(reason=f"no {name} service: nothing to cancel")
+            return
+        future = self._service.call_async(CancelGoal.Request())
+        future.add_done_callback(
+            lambda f: self.post_success_event(
+                goals_canceling=len(f.result().goals_canceling) if f.result() is not None else 0
+            )
+        )
+
+    def on_exit(self) -> None:
+        ros_context(self.sm).node.destroy_client(self._service)
+
+
+class CbStopNavigation(SmaccClientBehavior):
+    """Cancel this client's navigation goals and command a zero twist on ClNav2Z's cmd_vel, then succeed."""
+
+    def on_entry(self) -> None:
+        client = self.requires_client(ClNav2Z)
+        client.cancel_navigation()
+        client.publish_twist()
+        self.post_success_event()

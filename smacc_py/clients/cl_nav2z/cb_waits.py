@@ -1,0 +1,181 @@
+"""Waiting behaviors: CbWaitNav2Nodes (bond heartbeats), CbWaitPose (TF), CbSetInitialPose (AMCL).
+
+Each one polls on the machine clock (ISmaccUpdatable) for its timeout, so timeouts follow sim time,
+and posts exactly one EvCbSuccess or EvCbFailure (payload ``reason`` on failure).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Sequence
+
+from bond.msg import Status
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from smacc_py.clients.cl_nav2z.client import ClNav2Z
+from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
+from smacc_py.clients.cl_nav2z.cp_pose import CpPose
+from smacc_py.clients.cl_nav2z.geometry import normalize_angle, quaternion_to_yaw
+from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior
+from smacc_py.ros.context import ros_context
+
+BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+AMCL_POSE_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+
+
+class _OneShot(SmaccClientBehavior, ISmaccUpdatable):
+    """Posts at most one outcome; ``timeout_s`` (machine clock, None: never) → failure."""
+
+    timeout_s: float | None = None
+
+    def on_entry(self) -> None:
+        self._lock = threading.Lock()
+        self._finished = False
+        self._start_s = self.sm.now()
+        self.start()
+
+    def start(self) -> None:
+        """Subclass hook run by ``on_entry``."""
+
+    def finish(self, success: bool, **payload: object) -> None:
+        """Post the outcome once."""
+        with self._lock:
+            if self._finished:
+                return
+            self._finished = True
+        if success:
+            self.post_success_event(**payload)
+        else:
+            self.post_failure_event(**payload)
+
+    def update(self) -> None:
+        if self._finished:
+            return
+        self.poll()
+        if self.timeout_s is not None and self.sm.now() - self._start_s > self.timeout_s:
+            self.finish(False, reason=self.timeout_reason())
+
+    def poll(self) -> None:
+        """Subclass hook run on every update before the timeout check."""
+
+    def timeout_reason(self) -> str:
+        """Why the wait failed."""
+        return f"{type(self).__name__} timed out after {self.timeout_s} s"
+
+
+class CbWaitNav2Nodes(_OneShot):
+    """Success once each node in ``nodes`` heartbeated an active bond on ``topic``; failure after
+    ``timeout_s`` (SMACC2's version never fails). Node ids are Nav2's bond ids (the node names)."""
+
+    DEFAULT_NODES = ("planner_server", "controller_server", "bt_navigator")
+
+    def __init__(
+        self, nodes: Sequence[str] = DEFAULT_NODES, topic: str = "/bond", timeout_s: float | None = 30.0
+    ) -> None:
+        if not nodes:
+            raise ValueError("CbWaitNav2Nodes: give at least one node id")
+        self.nodes, self.topic, self.timeout_s = tuple(nodes), topic, timeout_s
+        self.seen: set[str] = set()
+
+    def start(self) -> None:
+        ctx = ros_context(self.sm)
+        self._sub = ctx.node.create_subscription(
+            Status, self.topic, self._on_bond, BOND_QOS, callback_group=ctx.callback_group
+        )
+
+    def _on_bond(self, msg: Status) -> None:
+        if msg.active and msg.id in self.nodes:
+            self.seen.add(msg.id)
+            if self.seen.issuperset(self.nodes):
+                self.finish(True, nodes=self.nodes)
+
+    def timeout_reason(self) -> str:
+        missing = ", ".join(n for n in self.nodes if n not in self.seen)
+        return f"no active bond from {missing} within {self.timeout_s} s"
+
+    def on_exit(self) -> None:
+        ros_context(self.sm).node.destroy_subscription(self._sub)
+
+
+class CbWaitPose(_OneShot):
+    """Success once CpPose finds the robot pose; failure after ``timeout_s``."""
+
+    def __init__(self, timeout_s: float | None = 10.0) -> None:
+        self.timeout_s = timeout_s
+
+    def start(self) -> None:
+        self._cp_pose = self.requires_component(CpPose)
+
+    def poll(self) -> None:
+        pose = self._cp_pose.refresh()
+        if pose is not None:
+            self.finish(True, pose=pose)
+
+    def timeout_reason(self) -> str:
+        return f"no robot pose within {self.timeout_s} s: {self._cp_pose.last_error}"
+
+
+class CbSetInitialPose(_OneShot):
+    """Publish AMCL's initial pose (x, y in m, yaw in rad, map frame) through CpAmcl, republishing every
+    ``republish_period_s`` until ``/amcl_pose`` reports a pose within ``xy_tolerance`` m and
+    ``yaw_tolerance`` rad of it (success); failure after ``timeout_s``."""
+
+    def __init__(
+        self,
+        x: float,
+        y: float,
+        yaw: float = 0.0,
+        *,
+        xy_tolerance: float = 0.5,
+        yaw_tolerance: float = 0.5,
+        timeout_s: float | None = 15.0,
+        republish_period_s: float = 1.0,
+        amcl_pose_topic: str = "/amcl_pose",
+    ) -> None:
+        self.pose = (float(x), float(y), float(yaw))
+        self.xy_tolerance, self.yaw_tolerance = xy_tolerance, yaw_tolerance
+        self.timeout_s, self.republish_period_s = timeout_s, republish_period_s
+        self.amcl_pose_topic = amcl_pose_topic
+        self.last_amcl: tuple[float, float, float] | None = None
+
+    def start(self) -> None:
+        self.requires_client(ClNav2Z)
+        self._amcl = self.requires_component(CpAmcl)
+        ctx = ros_context(self.sm)
+        self._sub = ctx.node.create_subscription(
+            PoseWithCovarianceStamped,
+            self.amcl_pose_topic,
+            self._on_pose,
+            AMCL_POSE_QOS,
+            callback_group=ctx.callback_group,
+        )
+        self._published_s = self.sm.now()
+        self._amcl.set_initial_pose(*self.pose)
+
+    def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        self.last_amcl = (p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w))
+        x, y, yaw = self.pose
+        if (
+            math.hypot(p.x - x, p.y - y) <= self.xy_tolerance
+            and abs(normalize_angle(self.last_amcl[2] - yaw)) <= self.yaw_tolerance
+        ):
+            self.finish(True, amcl_pose=self.last_amcl)
+
+    def poll(self) -> None:
+        if self.sm.now() - self._published_s >= self.republish_period_s:
+            self._published_s = self.sm.now()
+            self._amcl.set_initial_pose(*self.pose)
+
+    def timeout_reason(self) -> str:
+        return (
+            f"AMCL did not report a pose near {self.pose} within {self.timeout_s} s "
+            f"(last /amcl_pose: {self.last_amcl})"
+        )
+
+    def on_exit(self) -> None:
+        ros_context(self.sm).node.destroy_subscription(self._sub)

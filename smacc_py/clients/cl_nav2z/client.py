@@ -1,0 +1,137 @@
+"""``ClNav2Z``: the Nav2 client. It speaks NavigateToPose and the behavior-server actions.
+
+Like SMACC2's cl_nav2z, it owns the ``navigate_to_pose`` action client and posts
+``EvActionSucceeded/Aborted/Cancelled/Result/Feedback[ClNav2Z, Or]`` (ABSOLUTE lifetime) with the
+result or feedback as payload (``result``, ``error_code``, ``error_msg``, ``action``). Because SMACC2's
+custom Nav2 planner plugins (forward, backward, pure spinning, undo path) do not exist in a standard
+Nav2, this client also holds clients for the Nav2 behavior-server actions that do the same motions:
+``spin``, ``backup``, ``drive_on_heading``, plus ``follow_path`` on the controller server.
+
+Events are posted only for goals somebody still owns: a goal abandoned when its state exited (see
+``GoalTicket.abandon``) ends silently, so it cannot trigger a transition in the next state.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from geometry_msgs.msg import PoseStamped, Twist
+from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
+
+from smacc_py.core import (
+    EvActionAborted,
+    EvActionCancelled,
+    EvActionFeedback,
+    EvActionResult,
+    EvActionSucceeded,
+    ISmaccClient,
+)
+from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
+from smacc_py.ros.context import ros_context
+
+NAVIGATE_TO_POSE = "navigate_to_pose"
+SPIN = "spin"
+BACKUP = "backup"
+DRIVE_ON_HEADING = "drive_on_heading"
+FOLLOW_PATH = "follow_path"
+
+ACTION_TYPES: dict[str, Any] = {
+    NAVIGATE_TO_POSE: NavigateToPose,
+    SPIN: Spin,
+    BACKUP: BackUp,
+    DRIVE_ON_HEADING: DriveOnHeading,
+    FOLLOW_PATH: FollowPath,
+}
+
+_OUTCOME_EVENTS = {
+    GoalOutcome.SUCCEEDED: EvActionSucceeded,
+    GoalOutcome.ABORTED: EvActionAborted,
+    GoalOutcome.REJECTED: EvActionAborted,
+    GoalOutcome.CANCELED: EvActionCancelled,
+}
+
+
+class ClNav2Z(ISmaccClient):
+    """Nav2 client; ``action_names`` may remap any action key to another server name.
+
+    It also owns the machine's ``cmd_vel_topic`` publisher (geometry_msgs/Twist, created at startup so it
+    is discovered before a behavior needs it) for the behaviors that command velocities directly.
+    """
+
+    def __init__(self, action_names: dict[str, str] | None = None, cmd_vel_topic: str = "/cmd_vel") -> None:
+        self.cmd_vel_topic = cmd_vel_topic
+        unknown = set(action_names or {}) - set(ACTION_TYPES)
+        if unknown:
+            raise ValueError(f"ClNav2Z: unknown action keys {sorted(unknown)}; known: {sorted(ACTION_TYPES)}")
+        self.action_names = {key: key for key in ACTION_TYPES} | dict(action_names or {})
+        self._clients: dict[str, RosActionClient] = {}
+
+    def on_initialize(self) -> None:
+        ctx = ros_context(self.sm)
+        self.node = ctx.node
+        for key, action_type in ACTION_TYPES.items():
+            self._clients[key] = RosActionClient(
+                ctx.node, action_type, self.action_names[key], ctx.callback_group
+            )
+        self._cmd_vel = ctx.node.create_publisher(Twist, self.cmd_vel_topic, 10)
+
+    def publish_twist(self, linear_x: float = 0.0, angular_z: float = 0.0) -> None:
+        """Command a velocity (m/s, rad/s) on ``cmd_vel_topic``; no arguments means stop."""
+        msg = Twist()
+        msg.linear.x, msg.angular.z = float(linear_x), float(angular_z)
+        self._cmd_vel.publish(msg)
+
+    def action_client(self, key: str) -> RosActionClient:
+        """The action client for ``key`` (navigate_to_pose, spin, backup, drive_on_heading, follow_path)."""
+        try:
+            return self._clients[key]
+        except KeyError:
+            raise ValueError(f"ClNav2Z has no action {key!r}; known: {sorted(self._clients)}") from None
+
+    def send_goal(
+        self,
+        key: str,
+        goal: Any,
+        on_done: Callable[[GoalTicket], None] | None = None,
+        on_feedback: Callable[[GoalTicket, Any], None] | None = None,
+    ) -> GoalTicket:
+        """Send a goal to action ``key``; the client posts its EvAction* events, then ``on_done`` runs."""
+
+        def done(ticket: GoalTicket) -> None:
+            if not ticket.abandoned:
+                payload = {
+                    "action": key,
+                    "result": ticket.result,
+                    "error_code": ticket.error_code,
+                    "error_msg": ticket.error_msg or _default_message(ticket),
+                }
+                self.post_event(self.own_event(EvActionResult)(outcome=ticket.outcome, **payload))
+                assert ticket.outcome is not None
+                self.post_event(self.own_event(_OUTCOME_EVENTS[ticket.outcome])(**payload))
+            if on_done is not None:
+                on_done(ticket)
+
+        def feedback(ticket: GoalTicket, message: Any) -> None:
+            if not ticket.abandoned:
+                self.post_event(self.own_event(EvActionFeedback)(action=key, feedback=message))
+            if on_feedback is not None:
+                on_feedback(ticket, message)
+
+        return self.action_client(key).send_goal(goal, done, feedback)
+
+    def send_navigation_goal(
+        self, pose: PoseStamped, on_done: Callable[[GoalTicket], None] | None = None
+    ) -> GoalTicket:
+        """Send a NavigateToPose goal (default behavior tree)."""
+        return self.send_goal(NAVIGATE_TO_POSE, NavigateToPose.Goal(pose=pose), on_done)
+
+    def cancel_navigation(self) -> None:
+        """Cancel every NavigateToPose goal this client sent that is still running."""
+        self._clients[NAVIGATE_TO_POSE].cancel_all()
+
+
+def _default_message(ticket: GoalTicket) -> str:
+    if ticket.outcome is GoalOutcome.REJECTED:
+        return f"{ticket.action_name} goal rejected"
+    return ""

@@ -1,0 +1,41 @@
+"""``CpAmcl``: sets AMCL's initial pose by publishing ``initialpose`` (PoseWithCovarianceStamped, QoS 10)."""
+
+from __future__ import annotations
+
+from geometry_msgs.msg import PoseWithCovarianceStamped
+
+from smacc_py.clients.cl_nav2z.geometry import yaw_to_quaternion
+from smacc_py.core import ISmaccComponent
+from smacc_py.ros.context import ros_context
+
+# Covariance of sm_nav2_gazebo_test_1's initial pose: σ² x = y = 0.25 m², yaw = 0.06 rad².
+DEFAULT_COVARIANCE = (0.25, 0.25, 0.06)
+
+
+class CpAmcl(ISmaccComponent):
+    """Publisher of the initial pose, in ``frame_id`` (map)."""
+
+    def __init__(self, topic: str = "initialpose", frame_id: str = "map") -> None:
+        self.topic, self.frame_id = topic, frame_id
+        self.published: list[tuple[float, float, float]] = []
+
+    def on_initialize(self) -> None:
+        self._node = ros_context(self.sm).node
+        self._pub = self._node.create_publisher(PoseWithCovarianceStamped, self.topic, 10)
+
+    def set_initial_pose(
+        self, x: float, y: float, yaw: float, covariance: tuple[float, float, float] = DEFAULT_COVARIANCE
+    ) -> None:
+        """Publish (x, y in m, yaw in rad) with variances (x, y in m², yaw in rad²), stamped now."""
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = self.frame_id
+        msg.header.stamp = self._node.get_clock().now().to_msg()
+        msg.pose.pose.position.x, msg.pose.pose.position.y = float(x), float(y)
+        qx, qy, qz, qw = yaw_to_quaternion(yaw)
+        msg.pose.pose.orientation.x, msg.pose.pose.orientation.y = qx, qy
+        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = qz, qw
+        cov = [0.0] * 36
+        cov[0], cov[7], cov[35] = covariance
+        msg.pose.covariance = cov
+        self._pub.publish(msg)
+        self.published.append((float(x), float(y), float(yaw)))

@@ -1,0 +1,94 @@
+"""``CpOdomTracker``: records the odometry path for undo motions and shows it on ``odom_tracker_path``.
+
+Subscribes nav_msgs/Odometry on ``/odom`` (sensor-data QoS, best effort, which also matches reliable
+publishers) and feeds ``OdomPath``; publishes the working path on ``odom_tracker_path`` and the
+whole stack on ``odom_tracker_stacked_path`` (nav_msgs/Path, frame ``odom_frame``) at most every
+``publish_period_s``.
+"""
+
+from __future__ import annotations
+
+from nav_msgs.msg import Odometry, Path
+from rclpy.qos import qos_profile_sensor_data
+
+from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
+from smacc_py.clients.cl_nav2z.geometry import Pose2D, quaternion_to_yaw
+from smacc_py.clients.cl_nav2z.odom_path import OdomPath, OdomTrackerParams, WorkingMode
+from smacc_py.core import ISmaccComponent
+from smacc_py.ros.context import ros_context
+
+
+class CpOdomTracker(ISmaccComponent):
+    """Odometry path recorder with SMACC2's working modes (``WorkingMode``)."""
+
+    def __init__(
+        self,
+        odom_topic: str = "/odom",
+        odom_frame: str = "odom",
+        params: OdomTrackerParams | None = None,
+        publish_period_s: float = 0.2,
+    ) -> None:
+        self.odom_topic, self.odom_frame = odom_topic, odom_frame
+        self.paths = OdomPath(params)
+        self.publish_period_s = publish_period_s
+        self._last_publish_s = -1e9
+        self.last_pose: Pose2D | None = None
+
+    def on_initialize(self) -> None:
+        ctx = ros_context(self.sm)
+        self._node = ctx.node
+        self._path_pub = ctx.node.create_publisher(Path, "odom_tracker_path", 1)
+        self._stacked_pub = ctx.node.create_publisher(Path, "odom_tracker_stacked_path", 1)
+        self._sub = ctx.node.create_subscription(
+            Odometry,
+            self.odom_topic,
+            self._on_odom,
+            qos_profile_sensor_data,
+            callback_group=ctx.callback_group,
+        )
+
+    def _on_odom(self, msg: Odometry) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        pose = (p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w))
+        self.last_pose = pose
+        if self.paths.feed(pose):
+            now = self.sm.now()
+            if now - self._last_publish_s >= self.publish_period_s:
+                self._last_publish_s = now
+                self.publish()
+
+    def publish(self) -> None:
+        """Publish the working and stacked paths now."""
+        self._path_pub.publish(self._path_msg(self.paths.path()))
+        self._stacked_pub.publish(self._path_msg(self.paths.stacked_path()))
+
+    def _path_msg(self, poses: list[Pose2D]) -> Path:
+        msg = Path()
+        msg.header.frame_id = self.odom_frame
+        msg.header.stamp = self._node.get_clock().now().to_msg()
+        msg.poses = [make_pose_stamped(self.odom_frame, *pose) for pose in poses]
+        return msg
+
+    # SMACC2 API, snake_case
+    def set_working_mode(self, mode: WorkingMode) -> None:
+        """RECORD_PATH, CLEAR_PATH or IDLE."""
+        self.paths.set_mode(mode)
+
+    def push_path(self, name: str = "") -> None:
+        """Start a new working path."""
+        self.paths.push_path(name)
+
+    def pop_path(self) -> list[Pose2D]:
+        """Drop the working path and return it."""
+        path = self.paths.pop_path()
+        self.publish()
+        return path
+
+    def clear_path(self) -> None:
+        """Empty the working path."""
+        self.paths.clear_path()
+        self.publish()
+
+    def path(self) -> list[Pose2D]:
+        """The working path (odom frame)."""
+        return self.paths.path()

@@ -1,0 +1,170 @@
+"""A non-blocking action client: goals are tickets, results arrive through callbacks.
+
+Why not rclpy's ``ActionClient.send_goal``: it blocks. Everything here returns at once; the goal
+response, the feedback and the result come back on the executor and are handed to the callbacks
+given with the goal (which only post events). Every goal gets a ``GoalTicket`` that knows its outcome,
+the Nav2 ``error_code``/``error_msg`` of the result, and can be cancelled. ``abandon()`` is the cancel
+a behavior issues when its state exits: the goal is cancelled and the ticket marked, so the client
+posts no events for a goal nobody owns any more (SMACC2 checks goal ownership nowhere).
+"""
+
+from __future__ import annotations
+
+import enum
+import logging
+import threading
+from collections.abc import Callable
+from typing import Any
+
+from action_msgs.msg import GoalStatus
+from rclpy.action import ActionClient
+from rclpy.callback_groups import CallbackGroup
+from rclpy.node import Node
+
+_log = logging.getLogger("smacc_py")
+
+
+class GoalOutcome(enum.Enum):
+    """How a goal ended."""
+
+    SUCCEEDED = "succeeded"
+    ABORTED = "aborted"
+    CANCELED = "canceled"
+    REJECTED = "rejected"
+
+
+_STATUS = {
+    GoalStatus.STATUS_SUCCEEDED: GoalOutcome.SUCCEEDED,
+    GoalStatus.STATUS_CANCELED: GoalOutcome.CANCELED,
+    GoalStatus.STATUS_ABORTED: GoalOutcome.ABORTED,
+}
+
+
+class GoalTicket:
+    """One goal sent by a RosActionClient; ``outcome`` is None until it ended."""
+
+    def __init__(self, action_name: str, goal: Any) -> None:
+        self.action_name = action_name
+        self.goal = goal
+        self.outcome: GoalOutcome | None = None
+        self.result: Any = None
+        self.abandoned = False
+        self._lock = threading.Lock()
+        self._handle: Any = None
+        self._cancel_requested = False
+        self._done = threading.Event()
+
+    @property
+    def done(self) -> bool:
+        """True once the outcome is known."""
+        return self._done.is_set()
+
+    @property
+    def error_code(self) -> int:
+        """The result's Nav2 error code (0 when none or not applicable)."""
+        return int(getattr(self.result, "error_code", 0) or 0)
+
+    @property
+    def error_msg(self) -> str:
+        """The result's Nav2 error message ('' when none)."""
+        return str(getattr(self.result, "error_msg", "") or "")
+
+    def describe(self) -> str:
+        """Human-readable outcome, e.g. ``aborted (error_code 204: goal outside map)``."""
+        if self.outcome is None:
+            return "pending"
+        if self.error_code or self.error_msg:
+            return f"{self.outcome.value} (error_code {self.error_code}: {self.error_msg})"
+        return self.outcome.value
+
+    def cancel(self) -> None:
+        """Ask the server to cancel the goal (now, or as soon as it was accepted)."""
+        with self._lock:
+            self._cancel_requested = True
+            handle = self._handle
+        if handle is not None and not self.done:
+            handle.cancel_goal_async()
+
+    def abandon(self) -> None:
+        """Cancel and disown: the owner no longer wants events about this goal."""
+        self.abandoned = True
+        self.cancel()
+
+    def wait(self, timeout_s: float) -> bool:
+        """Block the calling (non-executor) thread up to ``timeout_s`` s for the outcome; tests use it."""
+        return self._done.wait(timeout_s)
+
+
+DoneCallback = Callable[[GoalTicket], None]
+FeedbackCallback = Callable[[GoalTicket, Any], None]
+
+
+class RosActionClient:
+    """Wraps an rclpy ActionClient; ``send_goal`` never blocks."""
+
+    def __init__(
+        self, node: Node, action_type: Any, action_name: str, callback_group: CallbackGroup | None = None
+    ) -> None:
+        self.action_type = action_type
+        self.action_name = action_name
+        self._client = ActionClient(node, action_type, action_name, callback_group=callback_group)
+        self._lock = threading.Lock()
+        self._active: list[GoalTicket] = []
+
+    def server_ready(self) -> bool:
+        """True when an action server of that name is discovered."""
+        return bool(self._client.server_is_ready())
+
+    def active_tickets(self) -> list[GoalTicket]:
+        """Goals sent and not yet ended."""
+        with self._lock:
+            return [t for t in self._active if not t.done]
+
+    def send_goal(
+        self, goal: Any, on_done: DoneCallback | None = None, on_feedback: FeedbackCallback | None = None
+    ) -> GoalTicket:
+        """Send ``goal``; ``on_done(ticket)`` and ``on_feedback(ticket, feedback)`` run on the executor."""
+        ticket = GoalTicket(self.action_name, goal)
+        with self._lock:
+            self._active = [t for t in self._active if not t.done] + [ticket]
+
+        def feedback(message: Any) -> None:
+            if on_feedback is not None and not ticket.done:
+                on_feedback(ticket, message.feedback)
+
+        def finish(outcome: GoalOutcome, result: Any) -> None:
+            ticket.outcome, ticket.result = outcome, result
+            ticket._done.set()
+            if on_done is not None:
+                on_done(ticket)
+
+        def on_result(future: Any) -> None:
+            response = future.result()
+            if response is None:
+                finish(GoalOutcome.ABORTED, None)
+                return
+            finish(_STATUS.get(response.status, GoalOutcome.ABORTED), response.result)
+
+        def on_goal_response(future: Any) -> None:
+            handle = future.result()
+            if handle is None or not handle.accepted:
+                finish(GoalOutcome.REJECTED, None)
+                return
+            with ticket._lock:
+                ticket._handle = handle
+                cancel = ticket._cancel_requested
+            handle.get_result_async().add_done_callback(on_result)
+            if cancel:
+                handle.cancel_goal_async()
+
+        self._client.send_goal_async(goal, feedback_callback=feedback).add_done_callback(on_goal_response)
+        return ticket
+
+    def cancel_all(self) -> None:
+        """Cancel every goal this client sent that has not ended."""
+        for ticket in self.active_tickets():
+            ticket.cancel()
+
+    def destroy(self) -> None:
+        """Destroy the underlying rclpy client."""
+        self._client.destroy()

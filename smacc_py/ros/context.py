@@ -1,0 +1,72 @@
+"""How clients, components and behaviors reach the ROS node that runs their machine.
+
+The core engine knows nothing about ROS. The runtime attaches one ``RosContext`` to the machine
+before ``initialize()`` (so clients may create publishers in ``on_initialize``); everything below the
+runtime fetches it with ``ros_context(sm)``. The node, its callback group and the shared transform
+listener are injected this way, never created behind the runtime's back (no singleton node).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from smacc_py.core import SmaccError
+
+if TYPE_CHECKING:
+    from rclpy.callback_groups import CallbackGroup
+    from rclpy.node import Node
+
+    from ros_tools.tf.ros import TransformListener
+
+_ATTR = "_smacc_ros_context"
+
+
+@dataclass
+class RosContext:
+    """The ROS side of one running machine.
+
+    Attributes:
+        node: the machine's node (named after the machine class).
+        callback_group: a reentrant group every client callback should use, so a slow callback never
+            delays another one on the MultiThreadedExecutor.
+    """
+
+    node: Node
+    callback_group: CallbackGroup
+    _tf: TransformListener | None = field(default=None, repr=False)
+    _owned: list[Any] = field(default_factory=list, repr=False)
+
+    def tf_listener(self) -> TransformListener:
+        """The machine's one TransformListener (created on first use, shared by every CpPose)."""
+        if self._tf is None:
+            from ros_tools.tf.ros import TransformListener
+
+            self._tf = TransformListener(self.node, callback_group=self.callback_group)
+        return self._tf
+
+    def now_s(self) -> float:
+        """The node clock in seconds (sim time when ``use_sim_time`` is true)."""
+        return self.node.get_clock().now().nanoseconds * 1e-9
+
+    def destroy(self) -> None:
+        """Release the shared listener (the runtime destroys the node itself)."""
+        if self._tf is not None:
+            self._tf.destroy()
+            self._tf = None
+
+
+def attach_ros_context(sm: object, context: RosContext) -> None:
+    """Give a machine its ROS context (the runtime calls this before ``initialize()``)."""
+    setattr(sm, _ATTR, context)
+
+
+def ros_context(sm: object) -> RosContext:
+    """The ROS context of ``sm``; SmaccError when the machine is not run by a ROS runtime."""
+    context = getattr(sm, _ATTR, None)
+    if context is None:
+        raise SmaccError(
+            f"{type(sm).__name__} has no ROS node: ROS clients need the machine to be run by "
+            "smacc_py.ros.runtime.SmaccRuntime (or smacc-run)"
+        )
+    return context  # type: ignore[no-any-return]

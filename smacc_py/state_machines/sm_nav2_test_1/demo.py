@@ -1,0 +1,143 @@
+"""``navsuite-demo``: the whole tutorial headless: simulator + Nav2-style stack + sm_nav2_test_1.
+
+Starts ``nav-bringup --rtf N`` through ros_tools.launch (waits for its "Nav2 is ready" line), then runs
+SmNav2Test1 in this process on sim time, prints every transition as it happens (sim time, source →
+target, tag, triggering event and, on failures, the Nav2 error), and ends with a summary. Exit status:
+0 when the mission reached StFinalState through the SUCCESS path; 1 on the ABORT path, 2 on a wall-clock
+timeout, 3 when a process of the stack died (or could not start), 130 on Ctrl-C.
+
+Examples::
+
+    navsuite-demo --rtf 5
+    navsuite-demo --waypoint1 5.0,3.0,1.57      # outside the map: ABORT, and the output says why
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import shutil
+import signal
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+READY_PATTERN = r"Nav2 is ready"
+DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_nav2_test_1.yaml"
+EXIT_SUCCESS, EXIT_ABORT, EXIT_TIMEOUT, EXIT_STACK, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+
+
+def parse_pose(text: str) -> list[float]:
+    """``x,y,yaw`` → [x, y, yaw]; argparse shows the ValueError message."""
+    parts = text.split(",")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected x,y,yaw numbers, got {text!r}") from None
+    if len(values) != 3:
+        raise argparse.ArgumentTypeError(f"expected 3 numbers x,y,yaw, got {len(values)} in {text!r}")
+    return values
+
+
+def bringup_command(rtf: float, custom: str | None = None) -> list[str]:
+    """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
+    ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line."""
+    if custom:
+        return [*shlex.split(custom), "--rtf", f"{rtf:g}"]
+    exe = shutil.which("nav-bringup")
+    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
+    return [*base, "--rtf", f"{rtf:g}"]
+
+
+def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="navsuite-demo", description=__doc__.splitlines()[0])
+    parser.add_argument("--rtf", type=float, default=1.0, help="real-time factor of the simulation")
+    parser.add_argument("--timeout", type=float, default=600.0, help="wall-clock limit (s) for the mission")
+    parser.add_argument("--waypoint1", type=parse_pose, help="x,y,yaw of the first goal (map frame)")
+    parser.add_argument("--waypoint2", type=parse_pose, help="x,y,yaw of the second goal (map frame)")
+    parser.add_argument(
+        "--params-file",
+        type=Path,
+        default=DEFAULT_PARAMS if DEFAULT_PARAMS.exists() else None,
+        help="ros__parameters YAML for node SmNav2Test1",
+    )
+    parser.add_argument(
+        "--ready-timeout", type=float, default=180.0, help="wall s to wait for 'Nav2 is ready'"
+    )
+    parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
+    parser.add_argument("--quiet", action="store_true", help="hide the stack's output (shown if it fails)")
+    options = parser.parse_args(argv)
+    if not options.rtf > 0.0:
+        parser.error(f"--rtf must be > 0, got {options.rtf}")
+    return options
+
+
+class _Output:
+    """Serialised printing; with ``quiet`` the stack's lines are kept (last 200) instead of shown."""
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self.lock = threading.Lock()
+        self.kept: list[str] = []
+
+    def stack(self, line: str) -> None:
+        if self.quiet:
+            with self.lock:
+                self.kept = [*self.kept[-199:], line]
+        else:
+            self.say(line)
+
+    def say(self, line: str) -> None:
+        with self.lock:
+            print(line, flush=True)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    options = parse_args(argv)
+    from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+
+    out = _Output(options.quiet)
+    launcher = Launcher(output=out.stack)
+    interrupted = threading.Event()
+
+    def on_signal(signum: int, frame: object) -> None:
+        interrupted.set()
+        launcher.stop()
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    wall_start = time.monotonic()
+    try:
+        out.say(f"[demo] starting the stack: {' '.join(bringup_command(options.rtf, options.bringup))}")
+        try:
+            launcher.start(
+                [
+                    ProcessSpec(
+                        "nav",
+                        bringup_command(options.rtf, options.bringup),
+                        ready=READY_PATTERN,
+                        ready_timeout=options.ready_timeout,
+                    )
+                ]
+            )
+        except LaunchError as error:
+            if options.quiet:
+                for line in out.kept[-40:]:
+                    out.say(line)
+            out.say(f"[demo] FAILED: the stack did not come up: {error}")
+            return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
+        from smacc_py.state_machines.sm_nav2_test_1.mission import run_mission
+
+        return run_mission(options, launcher, out.say, interrupted, wall_start)
+    finally:
+        launcher.shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,172 @@
+"""States of sm_nav2_test_1 (the real Jazzy package's reactions, tags and retry logic)."""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import TYPE_CHECKING
+
+from smacc_py.clients.cl_keyboard import CbDefaultKeyboardBehavior
+from smacc_py.clients.cl_nav2z import (
+    CbNavigateGlobalPosition,
+    CbPureSpinning,
+    CbWaitNav2Nodes,
+    ClNav2Z,
+    CpAmcl,
+)
+from smacc_py.clients.cl_ros2_timer import CbTimerCountdownOnce
+from smacc_py.core import (
+    ABORT,
+    SUCCESS,
+    EvActionAborted,
+    EvActionSucceeded,
+    EvCbFailure,
+    EvCbSuccess,
+    EvTimer,
+    SmaccEvent,
+    SmaccState,
+    Transition,
+    key_press_event,
+)
+from smacc_py.state_machines.sm_nav2_test_1.orthogonals import OrKeyboard, OrNavigation, OrTimer
+
+if TYPE_CHECKING:
+    from smacc_py.state_machines.sm_nav2_test_1.sm_nav2_test_1 import SmNav2Test1
+
+log = logging.getLogger("sm_nav2_test_1")
+
+SENSORS_TIMEOUT_S = 15.0  # StAllSensorsGo's timer fallback (node clock)
+ROTATE_YAW = math.pi  # StRotate: half a turn ...
+ROTATE_MAX_W = 0.5  # ... at most 0.5 rad/s
+
+
+class NAV2_READY(SUCCESS):  # noqa: N801  (SMACC2's tag name, shown in introspection)
+    """Nav2's servers heartbeat their bonds."""
+
+
+class NEXT(SUCCESS):
+    """The operator pressed N."""
+
+
+class RETRY(SUCCESS):
+    """Another localization attempt."""
+
+
+class EvMaxRetriesExceeded(SmaccEvent):
+    """StSetInitialPose ran out of localization attempts."""
+
+
+def _config(state: SmaccState) -> SmNav2Test1:
+    return state.sm  # type: ignore[return-value]
+
+
+class StAllSensorsGo(SmaccState):
+    """Wait for Nav2 (bonds), or 15 s, or key N."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StSetInitialPose", NAV2_READY),
+        Transition(EvTimer[CbTimerCountdownOnce, OrTimer], "StSetInitialPose", SUCCESS),
+        Transition(key_press_event("N")[CbDefaultKeyboardBehavior, OrKeyboard], "StSetInitialPose", NEXT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
+        cls.configure_orthogonal(OrTimer, CbTimerCountdownOnce, SENSORS_TIMEOUT_S)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+
+class StSetInitialPose(SmaccState):
+    """Publish AMCL's initial pose (CpAmcl); retry up to 3 times, then abort."""
+
+    MAX_RETRIES = 3
+    MAX_ATTEMPTS = 1 + MAX_RETRIES
+    ATTEMPT_COUNTER_KEY = "localization_attempt_count"
+
+    reactions = [
+        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
+        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StSetInitialPose", RETRY),
+        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+    def runtime_configure(self) -> None:
+        attempts = self.get_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0) + 1
+        self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, attempts)
+        if attempts > self.MAX_ATTEMPTS:
+            self.post_event(
+                EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation](
+                    reason=f"localization failed {self.MAX_ATTEMPTS} times"
+                )
+            )
+            return
+        x, y, yaw = _config(self).config.initial_pose
+        log.info("StSetInitialPose: attempt %d, initial pose (%.2f, %.2f, %.2f)", attempts, x, y, yaw)
+        self.requires_component(CpAmcl).set_initial_pose(x, y, yaw)
+
+    def on_exit_SUCCESS(self) -> None:
+        self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0)
+
+    def on_exit_ABORT(self) -> None:
+        log.error("StSetInitialPose: localization failed after max retries, aborting")
+
+
+class StNavigateToWaypoint1(SmaccState):
+    """Navigate to ``waypoint_1`` (default (2.0, 0.0, 0.0), the tutorial's)."""
+
+    reactions = [
+        Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StRotate", SUCCESS),
+        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbNavigateGlobalPosition, 2.0, 0.0, 0.0)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+    def runtime_configure(self) -> None:
+        behavior = self.get_client_behavior(OrNavigation, CbNavigateGlobalPosition)
+        behavior.set_goal(*_config(self).config.waypoint_1)
+
+
+class StRotate(SmaccState):
+    """Half a turn in place with CbPureSpinning(π, 0.5)."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbPureSpinning, OrNavigation], "StNavigateToWaypoint2", SUCCESS),
+        Transition(EvCbFailure[CbPureSpinning, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbPureSpinning, ROTATE_YAW, ROTATE_MAX_W)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+
+class StNavigateToWaypoint2(SmaccState):
+    """Navigate to ``waypoint_2`` (see SmNav2Test1Params for why it is not upstream's (0, 0))."""
+
+    reactions = [
+        Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StFinalState", SUCCESS),
+        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbNavigateGlobalPosition, 0.0, 0.0, 0.0)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+    def runtime_configure(self) -> None:
+        behavior = self.get_client_behavior(OrNavigation, CbNavigateGlobalPosition)
+        behavior.set_goal(*_config(self).config.waypoint_2)
+
+
+class StFinalState(SmaccState):
+    """The end: no reactions, no behaviors."""
+
+    def on_entry(self) -> None:
+        log.info("Mission Complete")

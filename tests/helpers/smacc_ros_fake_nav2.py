@@ -1,0 +1,290 @@
+"""A scripted stand-in for Nav2 + simulator as one real ROS node, for smacc_py integration tests.
+
+``FakeNav2`` serves what sm_nav2_test_1 and the cl_nav2z behaviors talk to:
+
+* action servers ``navigate_to_pose``, ``spin``, ``backup``, ``drive_on_heading``, ``follow_path``; each
+  pops the next scripted outcome ("succeeded", "aborted" or "hold": run until cancelled) and records
+  every goal and every cancel request; an empty script means "succeeded";
+* bond heartbeats (bond/Status on /bond, 10 Hz) for ``bond_nodes``;
+* an AMCL responder (unless ``amcl_echo`` is False): each /initialpose moves map→odom so the robot is
+  there and answers on /amcl_pose (reliable, transient local);
+* a world tick (100 Hz wall): /clock advancing ``clock_rate`` simulated seconds per wall second, the
+  robot integrating /cmd_vel (unless ``frozen``), /odom and TF map→odom→base_link stamped in sim time. Every
+  Twist received is kept in ``twists``.
+
+Navigation success teleports the robot to the goal, so TF agrees with what Nav2 reported.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import threading
+from collections import deque
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+from bond.msg import Status
+from geometry_msgs.msg import PoseWithCovarianceStamped, TransformStamped, Twist
+from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
+from nav_msgs.msg import Odometry
+from rclpy.action import ActionServer, CancelResponse
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from tf2_msgs.msg import TFMessage
+
+TICK_S = 0.01
+START_S = 1000.0
+AMCL_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+ACTIONS: dict[str, Any] = {
+    "navigate_to_pose": NavigateToPose,
+    "spin": Spin,
+    "backup": BackUp,
+    "drive_on_heading": DriveOnHeading,
+    "follow_path": FollowPath,
+}
+ABORT_CODES = {
+    "navigate_to_pose": 204,
+    "spin": 701,
+    "backup": 711,
+    "drive_on_heading": 721,
+    "follow_path": 105,
+}
+
+
+@dataclass
+class ServerLog:
+    """What one fake action server saw."""
+
+    goals: list[Any] = field(default_factory=list)
+    cancels: int = 0
+    results: list[str] = field(default_factory=list)
+
+
+def _tf(parent: str, child: str, x: float, y: float, yaw: float, stamp_s: float) -> TransformStamped:
+    t = TransformStamped()
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.header.stamp.sec = int(stamp_s)
+    t.header.stamp.nanosec = int((stamp_s % 1.0) * 1e9)
+    t.transform.translation.x, t.transform.translation.y = x, y
+    t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return t
+
+
+def _compose(a: tuple[float, float, float], b: tuple[float, float, float]) -> tuple[float, float, float]:
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2]
+
+
+def _inverse(a: tuple[float, float, float]) -> tuple[float, float, float]:
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return -c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2]
+
+
+class FakeNav2:
+    """The fake stack; ``start()`` spins it in a background thread, ``stop()`` tears it down."""
+
+    def __init__(
+        self,
+        context: Any,
+        *,
+        scripts: dict[str, Iterable[str]] | None = None,
+        bond_nodes: Iterable[str] = ("planner_server", "controller_server", "bt_navigator"),
+        clock_rate: float = 10.0,
+        frozen: bool = False,
+        amcl_echo: bool = True,
+    ) -> None:
+        self.node = Node("fake_nav2", context=context)
+        self.scripts = {name: deque(scripts.get(name, ()) if scripts else ()) for name in ACTIONS}
+        self.logs = {name: ServerLog() for name in ACTIONS}
+        self.bond_nodes = list(bond_nodes)
+        self.clock_rate, self.frozen, self.amcl_echo = clock_rate, frozen, amcl_echo
+        self.sim_s = START_S
+        self.odom_pose = (0.0, 0.0, 0.0)  # base_link in odom
+        self.map_odom = (0.0, 0.0, 0.0)  # odom in map
+        self.cmd = Twist()
+        self.twists: list[Twist] = []
+        self.initial_poses: list[tuple[float, float, float]] = []
+        self._lock = threading.Lock()
+        self._releases: list[threading.Event] = []
+        group = ReentrantCallbackGroup()
+        n = self.node
+        self._servers = [
+            ActionServer(
+                n,
+                action_type,
+                name,
+                self._executor_for(name),
+                callback_group=group,
+                cancel_callback=self._cancel_for(name),
+            )
+            for name, action_type in ACTIONS.items()
+        ]
+        self._clock_pub = n.create_publisher(Clock, "/clock", 10)
+        self._tf_pub = n.create_publisher(TFMessage, "/tf", 100)
+        self._odom_pub = n.create_publisher(Odometry, "/odom", 10)
+        self._bond_pub = n.create_publisher(Status, "/bond", 10)
+        self._amcl_pub = n.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", AMCL_QOS)
+        n.create_subscription(Twist, "/cmd_vel", self._on_cmd_vel, 100, callback_group=group)
+        n.create_subscription(
+            PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10, callback_group=group
+        )
+        n.create_timer(TICK_S, self._tick, callback_group=group)
+        n.create_timer(0.1, self._heartbeat, callback_group=group)
+        self.executor = MultiThreadedExecutor(num_threads=4, context=context)
+        self.executor.add_node(n)
+        self._thread = threading.Thread(target=self._spin, daemon=True)
+
+    # ------------------------------------------------------------------ lifecycle
+    def start(self) -> FakeNav2:
+        self._thread.start()
+        return self
+
+    def _spin(self) -> None:
+        with contextlib.suppress(Exception):  # the context may shut down under us at teardown
+            self.executor.spin()
+
+    def stop(self) -> None:
+        with self._lock:
+            for release in self._releases:
+                release.set()
+        self.executor.shutdown(timeout_sec=2.0)
+        self._thread.join(2.0)
+        for server in self._servers:
+            server.destroy()
+        self.node.destroy_node()
+
+    # ------------------------------------------------------------------ world
+    def map_pose(self) -> tuple[float, float, float]:
+        with self._lock:
+            return _compose(self.map_odom, self.odom_pose)
+
+    def teleport(self, x: float, y: float, yaw: float) -> None:
+        """Put the robot at (x, y, yaw) in map (by moving it in odom)."""
+        with self._lock:
+            self.odom_pose = _compose(_inverse(self.map_odom), (x, y, yaw))
+
+    def _tick(self) -> None:
+        with self._lock:
+            dt = TICK_S * self.clock_rate
+            self.sim_s += dt
+            if not self.frozen:
+                x, y, yaw = self.odom_pose
+                v, w = self.cmd.linear.x, self.cmd.angular.z
+                self.odom_pose = (x + v * math.cos(yaw) * dt, y + v * math.sin(yaw) * dt, yaw + w * dt)
+            stamp, odom, map_odom = self.sim_s, self.odom_pose, self.map_odom
+        clock = Clock()
+        clock.clock.sec, clock.clock.nanosec = int(stamp), int((stamp % 1.0) * 1e9)
+        self._clock_pub.publish(clock)
+        odom_tf = _tf("odom", "base_link", *odom, stamp)
+        self._tf_pub.publish(TFMessage(transforms=[_tf("map", "odom", *map_odom, stamp), odom_tf]))
+        msg = Odometry()
+        msg.header, msg.child_frame_id = odom_tf.header, "base_link"
+        msg.pose.pose.position.x, msg.pose.pose.position.y = odom[0], odom[1]
+        msg.pose.pose.orientation = odom_tf.transform.rotation
+        self._odom_pub.publish(msg)
+
+    def _heartbeat(self) -> None:
+        for node_id in list(self.bond_nodes):
+            self._bond_pub.publish(
+                Status(
+                    id=node_id, instance_id="fake", active=True, heartbeat_timeout=4.0, heartbeat_period=0.1
+                )
+            )
+
+    def _on_cmd_vel(self, msg: Twist) -> None:
+        with self._lock:
+            self.cmd = msg
+            self.twists.append(msg)
+
+    def _on_initial_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        pose = (p.x, p.y, math.atan2(2 * q.w * q.z, 1 - 2 * q.z * q.z))
+        with self._lock:
+            self.initial_poses.append(pose)
+            if not self.amcl_echo:
+                return
+            self.map_odom = _compose(pose, _inverse(self.odom_pose))
+        self._amcl_pub.publish(msg)
+
+    # ------------------------------------------------------------------ action servers
+    def _cancel_for(self, name: str) -> Any:
+        def cancel(goal_handle: Any) -> CancelResponse:
+            with self._lock:
+                self.logs[name].cancels += 1
+            return CancelResponse.ACCEPT
+
+        return cancel
+
+    def _executor_for(self, name: str) -> Any:
+        action_type = ACTIONS[name]
+
+        def execute(goal_handle: Any) -> Any:
+            with self._lock:
+                self.logs[name].goals.append(goal_handle.request)
+                script = self.scripts[name]
+                outcome = script.popleft() if script else "succeeded"
+            result = action_type.Result()
+            if outcome == "hold":
+                release = threading.Event()
+                with self._lock:
+                    self._releases.append(release)
+                while not goal_handle.is_cancel_requested and not release.is_set():
+                    release.wait(0.01)
+                goal_handle.canceled()
+                self.logs[name].results.append("canceled")
+                return result
+            if outcome == "aborted":
+                result.error_code = ABORT_CODES[name]
+                result.error_msg = f"fake {name} aborted as scripted"
+                goal_handle.abort()
+            else:
+                if name == "navigate_to_pose":
+                    pose = goal_handle.request.pose.pose
+                    q = pose.orientation
+                    self.teleport(
+                        pose.position.x, pose.position.y, math.atan2(2 * q.w * q.z, 1 - 2 * q.z * q.z)
+                    )
+                goal_handle.succeed()
+            self.logs[name].results.append(outcome)
+            return result
+
+        return execute
+
+
+def main() -> int:
+    """Run FakeNav2 as a process (stands in for ``nav-bringup`` in demo tests); prints "Nav2 is ready"."""
+    import argparse
+    import os
+    import signal
+
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    import rclpy
+    from rclpy.context import Context
+
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--rtf", type=float, default=10.0)
+    parser.add_argument("--abort-navigation", action="store_true")
+    options = parser.parse_args()
+    context = Context()
+    rclpy.init(context=context)
+    scripts = {"navigate_to_pose": ["aborted"]} if options.abort_navigation else None
+    fake = FakeNav2(context, scripts=scripts, clock_rate=options.rtf).start()
+    stop = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stop.set())
+    signal.signal(signal.SIGTERM, lambda *_: stop.set())
+    print("fake stack up; Nav2 is ready", flush=True)
+    stop.wait()
+    fake.stop()
+    rclpy.shutdown(context=context)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
