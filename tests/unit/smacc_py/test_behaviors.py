@@ -1,7 +1,5 @@
 """Behaviors, reactors, generators, CURRENT_STATE lifetime, polling and the threaded mode."""
 
-# SMACC-style declarations put `reactions = [Transition(...)]` lists on state classes (RUF012).
-# ruff: noqa: RUF012
 
 from __future__ import annotations
 

@@ -1,6 +1,5 @@
 """Definition errors fail at class definition or at start, with a message naming the class at fault."""
 
-# ruff: noqa: RUF012
 
 from __future__ import annotations
 

@@ -1,7 +1,5 @@
 """Dispatch and lifecycle semantics of the core engine (synchronous mode, no threads)."""
 
-# SMACC-style declarations put `reactions = [Transition(...)]` lists on state classes (RUF012).
-# ruff: noqa: RUF012
 
 from __future__ import annotations
 

@@ -5,8 +5,6 @@ States, orthogonals, behaviors, tags and the retry counter mirror the real packa
 ABORT after 1 + 3 attempts. Each test asserts the exact (source, target, tag) sequence.
 """
 
-# SMACC-style declarations put `reactions = [Transition(...)]` lists on state classes (RUF012).
-# ruff: noqa: RUF012
 
 from __future__ import annotations
 
