@@ -1,0 +1,123 @@
+"""Grid SLAM and frontier exploration: time per processed scan, and the quality of synthetic exploration.
+
+Target (brief): ≤ 30 ms median per processed scan (360 beams). The scenario explores the
+TB3-like hexagon room (tests/helpers/slam_world.py: exact analytic lidar, σ 0.01 m noise,
+drifting odometry), teleporting the robot along ground-truth paths to each goal the explorer
+picks, and reports the SLAM time per processed scan, the explorer time per goal, the pose error,
+the occupied-cell IoU (one-cell tolerance) and the share of the free space mapped. A second run
+explores the 10 m ring corridor, larger than the lidar range, where loop closures happen.
+
+Run: ``.venv/bin/python -m bench.bench_slam`` (``--no-record`` to only print).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from bench.harness import Benchmark, Stats
+from nav_stack.core.exploration import ExplorationStatus, Explorer
+from nav_stack.core.geometry import Pose2D
+from nav_stack.core.grid import GridSpec
+from nav_stack.core.slam import GridSlam, SlamParams
+from tests.helpers.slam_world import (
+    NoisyOdometry,
+    World,
+    hexagon_world,
+    interpolate,
+    iou_dilated,
+    resample_to,
+    ring_world,
+)
+
+
+def explore(
+    world: World, start: Pose2D, truth_spec: GridSpec, seed: int, max_goals: int = 40
+) -> dict[str, object]:
+    rng = np.random.default_rng(seed)
+    odometry = NoisyOdometry(rng, translation_noise=0.05, rotation_noise=0.05, rotation_bias=0.03)
+    slam = GridSlam(SlamParams(map_start_pose=(start.x, start.y, start.yaw)))
+    explorer = Explorer()
+    slam_times: list[float] = []
+    explorer_times: list[float] = []
+    errors: list[float] = []
+    state = {"k": 0}
+    pose = start
+
+    def move_to(true_pose: Pose2D) -> Pose2D:
+        scan = world.scan(true_pose, noise_std=0.01, rng=rng)
+        odom = odometry.update(true_pose)
+        started = time.perf_counter()
+        update = slam.process(scan, odom, 0.2 * state["k"])
+        if update.processed:
+            slam_times.append(time.perf_counter() - started)
+        state["k"] += 1
+        errors.append(math.hypot(update.pose.x - true_pose.x, update.pose.y - true_pose.y))
+        return update.pose
+
+    for k in range(43):
+        estimate = move_to(Pose2D(start.x, start.y, 0.15 * k))
+    goals = 0
+    complete = False
+    while goals < max_goals:
+        occupancy, spec = slam.occupancy()
+        started = time.perf_counter()
+        result = explorer.next_goal(occupancy, spec, estimate)
+        explorer_times.append(time.perf_counter() - started)
+        if result.status is ExplorationStatus.COMPLETE or result.goal is None:
+            complete = True
+            break
+        goals += 1
+        for step in interpolate(world.path(truth_spec, pose, result.goal, 0.2), 0.1)[1:]:
+            estimate = move_to(step)
+            pose = step
+        pose = Pose2D(result.goal.x, result.goal.y, result.goal.yaw)
+        estimate = move_to(pose)
+        explorer.mark_reached(result.goal)
+    occupancy, spec = slam.occupancy()
+    estimate_grid = resample_to(occupancy, spec, truth_spec, -1)
+    free = world.free_mask(truth_spec, (start.x, start.y))
+    return {
+        "slam": Stats.of(slam_times),
+        "explorer": Stats.of(explorer_times),
+        "goals": goals,
+        "complete": complete,
+        "max_error": max(errors),
+        "iou": iou_dilated(estimate_grid == 100, world.occupied_mask(truth_spec)),
+        "coverage": float(((estimate_grid == 0) & free).sum() / free.sum()),
+        "loops": slam.loop_closures,
+        "nodes": len(slam.poses),
+    }
+
+
+def report(bench: Benchmark, name: str, run: dict[str, object]) -> None:
+    note = f"{run['goals']} goals, {run['nodes']} scans processed, {run['loops']} loop closures"
+    slam_stats, explorer_stats = run["slam"], run["explorer"]
+    assert isinstance(slam_stats, Stats) and isinstance(explorer_stats, Stats)
+    print(f"{name}: complete={run['complete']} {note}")
+    bench.record(f"{name}: SLAM time per processed scan (360 beams)", slam_stats, "ms", scale=1e3, note=note)
+    bench.record(f"{name}: explorer next_goal", explorer_stats, "ms", scale=1e3)
+    bench.record_value(f"{name}: max pose error", float(run["max_error"]), "m")  # type: ignore[arg-type]
+    bench.record_value(f"{name}: occupied IoU (1-cell tolerance)", float(run["iou"]), "")  # type: ignore[arg-type]
+    bench.record_value(f"{name}: free space mapped", 100.0 * float(run["coverage"]), "%")  # type: ignore[arg-type]
+
+
+def main() -> None:
+    bench = Benchmark("slam")
+    report(
+        bench,
+        "hexagon room exploration",
+        explore(hexagon_world(), Pose2D(-2.0, -0.5, 0.0), GridSpec(130, 114, 0.05, -3.25, -2.85), seed=2),
+    )
+    report(
+        bench,
+        "ring corridor exploration",
+        explore(ring_world(), Pose2D(-4.25, -4.25, 0.0), GridSpec(220, 220, 0.05, -5.5, -5.5), seed=2),
+    )
+    bench.save()
+
+
+if __name__ == "__main__":
+    main()

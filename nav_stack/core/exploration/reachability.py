@@ -1,0 +1,57 @@
+"""Where the robot can stand and how far it has to drive there, on an occupancy grid.
+
+Why a path distance: the nearest frontier as the crow flies may lie behind a wall; exploration
+ranks frontiers by the length (m) of the shortest 8-connected path through cells with enough
+clearance for the robot. The search itself is the planners' Dijkstra (planning.grid_search) run
+to exhaustion with unit cell costs, so there is one grid search in the code base.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from nav_stack.core.costmap.distance import squared_distance_cells
+from nav_stack.core.exploration.frontiers import BoolArray, Occupancy, free_mask
+from nav_stack.core.grid import FloatArray, GridSpec
+from nav_stack.core.planning.grid_search import SearchGraph, search
+
+
+def traversable_mask(
+    occupancy: Occupancy, spec: GridSpec, robot_radius: float, occupied_threshold: int
+) -> BoolArray:
+    """Free cells with a clearance (m, centre to nearest occupied cell edge) of ``robot_radius`` or more."""
+    occupied = occupancy >= occupied_threshold
+    reach = math.ceil(robot_radius / spec.resolution) + 1
+    d2 = squared_distance_cells(occupied, reach)
+    clearance = np.sqrt(d2.astype(np.float64)) * spec.resolution - 0.5 * spec.resolution
+    return free_mask(occupancy, occupied_threshold) & (clearance >= robot_radius)
+
+
+def path_distances(traversable: BoolArray, spec: GridSpec, start: tuple[int, int]) -> FloatArray:
+    """Shortest 8-connected path length (m) from cell ``start`` = (mx, my) to each traversable cell, else inf.
+
+    The start cell is always usable, so a robot standing too close to a wall can still leave it.
+    """
+    mx, my = start
+    if not bool(spec.in_bounds(mx, my)):
+        raise ValueError(f"start cell ({mx}, {my}) lies outside the {spec.width} x {spec.height} grid")
+    costs = np.where(traversable, 1.0, np.inf)
+    costs[my, mx] = 1.0
+    graph = SearchGraph.build(costs)
+    result = search(
+        graph,
+        graph.index(mx, my),
+        -1,
+        use_astar=False,
+        max_iterations=costs.size + 1,
+        deadline_passed=lambda: False,
+    )
+    out = np.full(spec.width * spec.height, np.inf)
+    if result.g:
+        index = np.fromiter(result.g.keys(), dtype=np.int64, count=len(result.g))
+        value = np.fromiter(result.g.values(), dtype=np.float64, count=len(result.g))
+        row, col = np.divmod(index, graph.stride)
+        out[(row - 1) * spec.width + (col - 1)] = value * spec.resolution
+    return out.reshape(spec.shape)

@@ -1,0 +1,33 @@
+"""Grid SLAM (pure numpy): log-odds mapping, correlative scan matching, pose-graph loop closure.
+
+Typical use (the SLAM node feeds every LaserScan with the odometry pose at its stamp)::
+
+    slam = GridSlam(SlamParams(map_start_pose=(-2.0, -0.5, 0.0)))
+    update = slam.process(scan, odom_pose, stamp, laser_pose)   # publish update.map_to_odom
+    occupancy, spec = slam.occupancy()                          # publish /map every map_update_interval
+"""
+
+from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
+from nav_stack.core.slam.laser import ScanPoints, scan_points
+from nav_stack.core.slam.log_odds import LogOddsGrid
+from nav_stack.core.slam.mapper import GridSlam, SlamUpdate, between, inverse
+from nav_stack.core.slam.params import SlamParams
+from nav_stack.core.slam.pose_graph import Edge, optimize, total_error
+
+__all__ = [
+    "CorrelationGrid",
+    "Edge",
+    "GridSlam",
+    "LogOddsGrid",
+    "MatchResult",
+    "ScanPoints",
+    "SearchWindow",
+    "SlamParams",
+    "SlamUpdate",
+    "between",
+    "inverse",
+    "match",
+    "optimize",
+    "scan_points",
+    "total_error",
+]

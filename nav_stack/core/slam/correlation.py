@@ -1,0 +1,236 @@
+"""Correlative scan matching: exhaustive coarse-to-fine search over (x, y, yaw) on a smeared point grid.
+
+Why this method (Olson 2009; Karto/slam_toolbox's matcher): reference points (recent scans, or an
+old chain of scans for a loop closure) are rasterised once and smeared with a Gaussian of σ =
+``smear_deviation``; a candidate pose scores the mean smear value under the new scan's points.
+Scoring every candidate of a window is a single gather in numpy: for each yaw the points are
+rotated once, and every translation is an integer cell offset added to their flat indices, so a
+(yaws × translations × points) block is read in one call. The search runs
+
+1. coarse: translations two cells apart over the window, yaws ``coarse_angle_resolution`` apart;
+2. fine: one-cell translations within ± one coarse step, yaws ``fine_angle_resolution`` apart
+   within ± one coarse yaw step around the coarse best;
+3. optional refinement: Gauss-Newton on the bilinear-interpolated smear (Hector-style) for a
+   sub-cell pose, kept only when it raises the response.
+
+Responses are multiplied by Karto's distance/angle penalties, so among equally good fits the one
+nearest the odometry prediction wins and featureless corridors do not make the pose wander.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.costmap.distance import squared_distance_cells
+from nav_stack.core.geometry import FloatArray, Pose2D, normalize_angle
+
+F32 = npt.NDArray[np.float32]
+# Karto's gains in its penalty 1 - gain · d² / variance_penalty (same for distance and angle).
+_PENALTY_GAIN = 0.2
+
+
+@dataclass(frozen=True)
+class SearchWindow:
+    """A correlative search around a prior: ± ``half_extent`` (m), ± ``half_angle`` (rad) with yaw steps."""
+
+    half_extent: float
+    half_angle: float
+    coarse_angle_resolution: float
+    fine_angle_resolution: float
+    distance_variance_penalty: float
+    angle_variance_penalty: float
+    minimum_distance_penalty: float
+    minimum_angle_penalty: float
+    refine_iterations: int
+
+
+@dataclass(frozen=True)
+class MatchResult:
+    """Best pose found, its response in [0, 1] (mean smear under the points, penalised) and the coarse one."""
+
+    pose: Pose2D
+    response: float
+    coarse_response: float
+
+
+class CorrelationGrid:
+    """Smeared likelihood of reference points (map frame) on an axis-aligned grid with a zero border."""
+
+    def __init__(
+        self,
+        points: FloatArray,
+        center: tuple[float, float],
+        half_size: float,
+        resolution: float,
+        smear_deviation: float,
+    ) -> None:
+        if len(points) == 0:
+            raise ValueError("CorrelationGrid needs at least one reference point")
+        self.resolution = resolution
+        cells = math.ceil(half_size / resolution)
+        self.origin = (math.floor(center[0] / resolution) - cells, math.floor(center[1] / resolution) - cells)
+        self.size = 2 * cells + 1
+        ix = np.floor(points[:, 0] / resolution).astype(np.int64) - self.origin[0]
+        iy = np.floor(points[:, 1] / resolution).astype(np.int64) - self.origin[1]
+        keep = (ix >= 1) & (ix < self.size - 1) & (iy >= 1) & (iy < self.size - 1)
+        mask = np.zeros((self.size, self.size), dtype=bool)
+        mask[iy[keep], ix[keep]] = True
+        sigma_cells = smear_deviation / resolution
+        reach = max(1, math.ceil(3.0 * sigma_cells))
+        d2 = squared_distance_cells(mask, reach)
+        table = np.exp(-d2.astype(np.float32) / np.float32(2.0 * sigma_cells * sigma_cells))
+        table[d2 > reach * reach] = 0.0
+        table[[0, -1], :] = 0.0
+        table[:, [0, -1]] = 0.0
+        self.table: F32 = table.astype(np.float32)
+        self._flat: F32 = self.table.reshape(-1)
+
+    def _cells(self, points: FloatArray, pose: Pose2D) -> tuple[FloatArray, FloatArray]:
+        """Continuous grid coordinates (cells) of robot-frame ``points`` seen from ``pose``."""
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        gx = (pose.x + c * points[:, 0] - s * points[:, 1]) / self.resolution - self.origin[0]
+        gy = (pose.y + s * points[:, 0] + c * points[:, 1]) / self.resolution - self.origin[1]
+        return gx, gy
+
+    def scores(
+        self, points: FloatArray, prior: Pose2D, yaws: FloatArray, offsets: npt.NDArray[np.int64]
+    ) -> F32:
+        """Mean smear (yaws × offsets) of the points at ``prior``, for each yaw and cell offset (dx, dy)."""
+        c, s = np.cos(yaws)[:, None], np.sin(yaws)[:, None]
+        px = (prior.x + c * points[None, :, 0] - s * points[None, :, 1]) / self.resolution - self.origin[0]
+        py = (prior.y + s * points[None, :, 0] + c * points[None, :, 1]) / self.resolution - self.origin[1]
+        top = self.size - 1
+        ix = np.floor(px).astype(np.int64)
+        iy = np.floor(py).astype(np.int64)
+        base = iy * self.size + ix  # (A, N)
+        shift = offsets[:, 1] * self.size + offsets[:, 0]  # (T,)
+        idx = base[:, None, :] + shift[None, :, None]
+        # Points pushed off the grid read the zero border instead of wrapping around.
+        ox, oy = ix[:, None, :] + offsets[None, :, 0, None], iy[:, None, :] + offsets[None, :, 1, None]
+        outside = (ox < 0) | (ox > top) | (oy < 0) | (oy > top)
+        idx[outside] = 0
+        return np.asarray(self._flat[idx].mean(axis=2), dtype=np.float32)
+
+    def interpolated(self, points: FloatArray, pose: Pose2D) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Bilinear smear value and its gradient (per cell) at each point seen from ``pose``."""
+        gx, gy = self._cells(points, pose)
+        gx, gy = gx - 0.5, gy - 0.5  # table values sit at cell centres
+        x0, y0 = np.floor(gx), np.floor(gy)
+        fx, fy = gx - x0, gy - y0
+        ix = np.clip(x0.astype(np.int64), 0, self.size - 2)
+        iy = np.clip(y0.astype(np.int64), 0, self.size - 2)
+        t = self.table
+        v00, v10 = t[iy, ix].astype(np.float64), t[iy, ix + 1].astype(np.float64)
+        v01, v11 = t[iy + 1, ix].astype(np.float64), t[iy + 1, ix + 1].astype(np.float64)
+        value = (v00 * (1 - fx) + v10 * fx) * (1 - fy) + (v01 * (1 - fx) + v11 * fx) * fy
+        dgx = (v10 - v00) * (1 - fy) + (v11 - v01) * fy
+        dgy = (v01 - v00) * (1 - fx) + (v11 - v10) * fx
+        return value, dgx, dgy
+
+
+def _offsets(half_cells: int, step: int) -> npt.NDArray[np.int64]:
+    k = np.arange(-(half_cells // step) * step, half_cells + 1, step, dtype=np.int64)
+    gx, gy = np.meshgrid(k, k)
+    return np.column_stack((gx.ravel(), gy.ravel()))
+
+
+def _angles(half_angle: float, step: float) -> FloatArray:
+    n = math.floor(half_angle / step + 1e-9)
+    return np.arange(-n, n + 1, dtype=np.float64) * step
+
+
+def _penalised(
+    scores: F32,
+    offsets: npt.NDArray[np.int64],
+    yaws: FloatArray,
+    resolution: float,
+    window: SearchWindow,
+    base_offset: tuple[float, float],
+    base_yaw: float,
+) -> F32:
+    """Karto's multiplicative penalties for straying from the prior (offsets relative to it)."""
+    dx = base_offset[0] + offsets[:, 0] * resolution
+    dy = base_offset[1] + offsets[:, 1] * resolution
+    dist = np.maximum(
+        1.0 - _PENALTY_GAIN * (dx * dx + dy * dy) / window.distance_variance_penalty,
+        window.minimum_distance_penalty,
+    )
+    dyaw = base_yaw + yaws
+    ang = np.maximum(
+        1.0 - _PENALTY_GAIN * dyaw * dyaw / window.angle_variance_penalty, window.minimum_angle_penalty
+    )
+    return np.asarray(scores * (ang[:, None] * dist[None, :]), dtype=np.float32)
+
+
+def _refine(grid: CorrelationGrid, points: FloatArray, pose: Pose2D, iterations: int) -> tuple[Pose2D, float]:
+    """Gauss-Newton on residuals 1 − smear(point); returns the best pose seen and its mean smear."""
+    best_pose = pose
+    value, _, _ = grid.interpolated(points, pose)
+    best = float(value.mean())
+    res = grid.resolution
+    for _ in range(iterations):
+        value, dgx, dgy = grid.interpolated(points, best_pose)
+        c, s = math.cos(best_pose.yaw), math.sin(best_pose.yaw)
+        # d(point_map)/d(yaw) for each point; smear gradient is per cell, so divide by the resolution.
+        dxt = -s * points[:, 0] - c * points[:, 1]
+        dyt = c * points[:, 0] - s * points[:, 1]
+        jac = np.column_stack((dgx / res, dgy / res, (dgx * dxt + dgy * dyt) / res))
+        residual = 1.0 - value
+        hessian = jac.T @ jac + 1e-9 * np.eye(3)
+        step = np.linalg.solve(hessian, jac.T @ residual)
+        # Stay within the basin the grid search found: at most half a cell and half a fine step.
+        scale = min(1.0, 0.5 * res / max(math.hypot(step[0], step[1]), 1e-12))
+        candidate = Pose2D(
+            best_pose.x + scale * step[0],
+            best_pose.y + scale * step[1],
+            normalize_angle(best_pose.yaw + float(np.clip(step[2], -0.01, 0.01))),
+        )
+        cand_value, _, _ = grid.interpolated(points, candidate)
+        score = float(cand_value.mean())
+        if score <= best:
+            break
+        best_pose, best = candidate, score
+    return best_pose, best
+
+
+def match(grid: CorrelationGrid, points: FloatArray, prior: Pose2D, window: SearchWindow) -> MatchResult:
+    """Best pose of robot-frame ``points`` against ``grid`` within ``window`` around ``prior`` (map frame)."""
+    if len(points) == 0:
+        return MatchResult(prior, 0.0, 0.0)
+    res = grid.resolution
+    half_cells = math.floor(window.half_extent / res + 1e-9)
+    coarse_step = 2 if half_cells >= 2 else 1
+    offsets = _offsets(half_cells, coarse_step)
+    yaws = _angles(window.half_angle, window.coarse_angle_resolution)
+    raw = grid.scores(points, prior, prior.yaw + yaws, offsets)
+    coarse = _penalised(raw, offsets, yaws, res, window, (0.0, 0.0), 0.0)
+    a, t = np.unravel_index(int(np.argmax(coarse)), coarse.shape)
+    coarse_response = float(coarse[a, t])
+    best_yaw_off = float(yaws[a])
+    best_off = (int(offsets[t, 0]), int(offsets[t, 1]))
+
+    centre = Pose2D(prior.x + best_off[0] * res, prior.y + best_off[1] * res, prior.yaw + best_yaw_off)
+    fine_offsets = _offsets(coarse_step, 1)
+    fine_yaws = _angles(window.coarse_angle_resolution, window.fine_angle_resolution)
+    raw = grid.scores(points, centre, centre.yaw + fine_yaws, fine_offsets)
+    fine = _penalised(
+        raw, fine_offsets, fine_yaws, res, window, (best_off[0] * res, best_off[1] * res), best_yaw_off
+    )
+    a, t = np.unravel_index(int(np.argmax(fine)), fine.shape)
+    response = float(fine[a, t])
+    pose = Pose2D(
+        centre.x + int(fine_offsets[t, 0]) * res,
+        centre.y + int(fine_offsets[t, 1]) * res,
+        normalize_angle(centre.yaw + float(fine_yaws[a])),
+    )
+    if window.refine_iterations > 0:
+        unpenalised = float(raw[a, t])
+        refined, value = _refine(grid, points, pose, window.refine_iterations)
+        if value > unpenalised:
+            response *= value / max(unpenalised, 1e-12)
+            pose = refined
+    return MatchResult(pose, min(response, 1.0), coarse_response)

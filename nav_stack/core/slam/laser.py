@@ -1,0 +1,64 @@
+"""Turn a LaserScan into the point sets the mapper keeps per scan, in the robot (base) frame.
+
+Why points in the robot frame: a pose-graph node stores its scan once; after a loop closure moves
+the node, the map is rebuilt by transforming the same points with the new pose, so nothing from
+the original message (or the TF at that time) has to be kept.
+
+Beam classes (slam_toolbox/Karto semantics):
+- a return in ``[range_min, min(range_max, max_laser_range))`` is a *hit*: free along the beam,
+  occupied at the endpoint, used for matching;
+- +inf, a reading at or beyond ``range_max`` or beyond ``max_laser_range`` is a *miss*: it clears
+  along the beam up to the usable range and marks nothing;
+- NaN and readings below ``range_min`` (LDS-01 reports 0.0 for "invalid") are dropped.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import FloatArray, Pose2D
+
+
+@dataclass(frozen=True)
+class ScanPoints:
+    """One scan in the robot frame.
+
+    Attributes:
+        origin: sensor position ``(x, y)`` (m) in the robot frame.
+        hits: (K, 2) beam endpoints of returns (m).
+        misses: (J, 2) points at the usable range along beams that returned nothing (m).
+    """
+
+    origin: tuple[float, float]
+    hits: FloatArray
+    misses: FloatArray
+
+    def in_map(self, pose: Pose2D) -> tuple[tuple[float, float], FloatArray, FloatArray]:
+        """Sensor origin, hits and misses transformed by the robot ``pose`` in the map frame."""
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        rot = np.array([[c, s], [-s, c]])
+        shift = np.array([pose.x, pose.y])
+        ox = pose.x + c * self.origin[0] - s * self.origin[1]
+        oy = pose.y + s * self.origin[0] + c * self.origin[1]
+        return (ox, oy), self.hits @ rot + shift, self.misses @ rot + shift
+
+
+def scan_points(scan: LaserScan, laser_pose: Pose2D, max_laser_range: float) -> ScanPoints:
+    """Classify the beams of ``scan`` and express them in the robot frame.
+
+    ``laser_pose`` is the sensor's pose in the robot frame (base_footprint → base_scan, from TF).
+    """
+    usable = min(max_laser_range, scan.range_max)
+    ranges = np.asarray(scan.ranges, dtype=np.float64)
+    angles = scan.angles + laser_pose.yaw
+    with np.errstate(invalid="ignore"):
+        hit = (ranges >= scan.range_min) & (ranges < usable)
+        miss = ~hit & ~np.isnan(ranges) & (ranges >= usable)
+    cos, sin = np.cos(angles), np.sin(angles)
+    hits = np.column_stack((laser_pose.x + ranges[hit] * cos[hit], laser_pose.y + ranges[hit] * sin[hit]))
+    misses = np.column_stack((laser_pose.x + usable * cos[miss], laser_pose.y + usable * sin[miss]))
+    return ScanPoints((laser_pose.x, laser_pose.y), hits, misses)

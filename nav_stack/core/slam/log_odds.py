@@ -1,0 +1,143 @@
+"""A log-odds occupancy grid in the map frame that grows to fit whatever the scans reach.
+
+Why log-odds: each scan adds evidence (hits raise, traversals lower a cell's log-odds), so a
+person walking by or a grazing beam is outvoted by repeated observations, and clamping keeps
+every cell able to change. Why growing: the SLAM map frame has no known extent; the grid starts
+around the first scan and is re-allocated with a margin when a scan reaches past its edge. Cell
+edges stay on multiples of the resolution in the map frame, so growing never shifts old cells.
+
+Each scan updates a cell at most once (free cells and endpoint cells are deduplicated; an endpoint
+wins over a traversal in the same scan), so cells near the sensor are not over-counted.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.costmap.raytrace import trace_cells
+from nav_stack.core.geometry import FloatArray
+from nav_stack.core.grid import GridSpec
+
+# Extra room (m) allocated beyond a scan's reach when the grid grows: re-allocations stay rare.
+_GROW_MARGIN_M = 2.0
+
+
+def _logit(p: float) -> float:
+    return math.log(p / (1.0 - p))
+
+
+class LogOddsGrid:
+    """Occupancy evidence per cell; ``occupancy()`` renders the trinary OccupancyGrid values."""
+
+    def __init__(
+        self, resolution: float, hit_probability: float, miss_probability: float, clamp: tuple[float, float]
+    ) -> None:
+        self.resolution = resolution
+        self._hit = np.float32(_logit(hit_probability))
+        self._miss = np.float32(_logit(miss_probability))
+        self._clamp = (np.float32(_logit(clamp[0])), np.float32(_logit(clamp[1])))
+        self._cell0 = (0, 0)  # map-frame cell index (ix, iy) of array element [0, 0]
+        self._log_odds = np.zeros((0, 0), dtype=np.float32)
+        self._seen = np.zeros((0, 0), dtype=bool)
+        self._scratch = np.zeros(0, dtype=np.int64)  # per-cell workspace of _distinct
+
+    @property
+    def spec(self) -> GridSpec | None:
+        """Extent of the allocated grid (None before the first scan)."""
+        if self._log_odds.size == 0:
+            return None
+        h, w = self._log_odds.shape
+        return GridSpec(
+            w, h, self.resolution, self._cell0[0] * self.resolution, self._cell0[1] * self.resolution
+        )
+
+    def clear(self) -> None:
+        """Forget all evidence (before a rebuild); keeps the allocation."""
+        self._log_odds.fill(0.0)
+        self._seen.fill(False)
+
+    def _ensure_covers(self, xs: FloatArray, ys: FloatArray) -> GridSpec:
+        """Grow the arrays so every point (m) lies on the grid; return the (new) spec."""
+        res = self.resolution
+        lo_x, hi_x = math.floor(float(xs.min()) / res), math.floor(float(xs.max()) / res)
+        lo_y, hi_y = math.floor(float(ys.min()) / res), math.floor(float(ys.max()) / res)
+        h, w = self._log_odds.shape
+        x0, y0 = self._cell0
+        if w and h and lo_x >= x0 and lo_y >= y0 and hi_x < x0 + w and hi_y < y0 + h:
+            spec = self.spec
+            assert spec is not None
+            return spec
+        margin = math.ceil(_GROW_MARGIN_M / res)
+        if w and h:
+            lo_x, lo_y = min(lo_x, x0), min(lo_y, y0)
+            hi_x, hi_y = max(hi_x, x0 + w - 1), max(hi_y, y0 + h - 1)
+        nx0, ny0 = lo_x - margin, lo_y - margin
+        nw, nh = hi_x - lo_x + 1 + 2 * margin, hi_y - lo_y + 1 + 2 * margin
+        log_odds = np.zeros((nh, nw), dtype=np.float32)
+        seen = np.zeros((nh, nw), dtype=bool)
+        if w and h:
+            r, c = y0 - ny0, x0 - nx0
+            log_odds[r : r + h, c : c + w] = self._log_odds
+            seen[r : r + h, c : c + w] = self._seen
+        self._log_odds, self._seen, self._cell0 = log_odds, seen, (nx0, ny0)
+        spec = self.spec
+        assert spec is not None
+        return spec
+
+    def integrate(self, origin: tuple[float, float], hits: FloatArray, misses: FloatArray) -> None:
+        """Add one scan in the map frame: sensor ``origin``, (K, 2) ``hits`` and (J, 2) ``misses`` (m)."""
+        ends = np.vstack((hits, misses, np.array([origin])))
+        spec = self._ensure_covers(ends[:, 0], ends[:, 1])
+        w = spec.width
+        free_flat: list[npt.NDArray[np.int64]] = []
+        for points, include_end in ((hits, False), (misses, True)):
+            if len(points) == 0:
+                continue
+            dx, dy = points[:, 0] - origin[0], points[:, 1] - origin[1]
+            fx, fy = trace_cells(spec, origin, np.hypot(dx, dy), np.arctan2(dy, dx), include_end=include_end)
+            free_flat.append(fy * w + fx)
+        hx, hy = spec.world_to_cell(hits[:, 0], hits[:, 1])
+        hit_flat = self._distinct(hy * w + hx)
+        free = self._distinct(np.concatenate(free_flat)) if free_flat else np.zeros(0, dtype=np.int64)
+        self._scratch[hit_flat] = -1
+        free = free[self._scratch[free] != -1]
+        flat = self._log_odds.reshape(-1)
+        flat[free] = np.maximum(flat[free] + self._miss, self._clamp[0])
+        flat[hit_flat] = np.minimum(flat[hit_flat] + self._hit, self._clamp[1])
+        seen = self._seen.reshape(-1)
+        seen[free] = True
+        seen[hit_flat] = True
+
+    def _distinct(self, cells: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+        """Each flat index once, without sorting: of repeated writes to a scratch cell only the last
+        survives, so exactly one occurrence of every index reads back its own position."""
+        if self._scratch.size != self._log_odds.size:
+            self._scratch = np.zeros(self._log_odds.size, dtype=np.int64)
+        order = np.arange(len(cells), dtype=np.int64)
+        self._scratch[cells] = order
+        return np.asarray(cells[self._scratch[cells] == order], dtype=np.int64)
+
+    def occupancy(self, occupied_thresh: float, free_thresh: float) -> tuple[npt.NDArray[np.int8], GridSpec]:
+        """Trinary OccupancyGrid values (100 occupied, 0 free, -1 unknown) cropped to the observed cells."""
+        spec = self.spec
+        if spec is None or not self._seen.any():
+            raise ValueError("the SLAM map is empty: no scan has been integrated yet")
+        rows = np.flatnonzero(self._seen.any(axis=1))
+        cols = np.flatnonzero(self._seen.any(axis=0))
+        r0, r1, c0, c1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+        lo = self._log_odds[r0:r1, c0:c1]
+        out = np.full(lo.shape, -1, dtype=np.int8)
+        out[lo >= _logit(occupied_thresh)] = 100
+        out[lo <= _logit(free_thresh)] = 0
+        out[~self._seen[r0:r1, c0:c1]] = -1
+        cropped = GridSpec(
+            c1 - c0,
+            r1 - r0,
+            self.resolution,
+            spec.origin_x + c0 * self.resolution,
+            spec.origin_y + r0 * self.resolution,
+        )
+        return out, cropped

@@ -1,0 +1,53 @@
+"""Which older scans a new scan may close a loop with (Karto's candidate rule), and the chain to match.
+
+Why this rule: scans the current one is already tied to (through the running buffer or an earlier
+closure) add nothing; a closure only helps against scans the graph reaches by a long way round.
+So, as in Karto's ``FindPossibleLoopClosure``, the graph is walked from the current node over
+nodes that all lie within ``loop_search_maximum_distance``; whatever that walk reaches is
+excluded. Of the remaining near nodes, a run of at least ``loop_match_minimum_chain_size``
+consecutive scans forms the reference the new scan is matched against; requiring a chain keeps
+one stray scan from producing a closure.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+from nav_stack.core.geometry import FloatArray
+
+
+def linked_near_nodes(adjacency: list[list[int]], near: np.ndarray, start: int) -> set[int]:
+    """Nodes reachable from ``start`` through edges whose nodes are all ``near`` (a boolean per node)."""
+    reached = {start}
+    queue = deque([start])
+    while queue:
+        node = queue.popleft()
+        for other in adjacency[node]:
+            if other not in reached and near[other]:
+                reached.add(other)
+                queue.append(other)
+    return reached
+
+
+def candidate_chains(
+    poses: FloatArray, adjacency: list[list[int]], current: int, max_distance: float, min_chain: int
+) -> list[list[int]]:
+    """Runs of consecutive older node indices near ``poses[current]`` and not already linked to it.
+
+    Returned nearest first (by the closest node of each run); each run has at least ``min_chain`` nodes.
+    """
+    d = np.hypot(poses[:, 0] - poses[current, 0], poses[:, 1] - poses[current, 1])
+    near = d < max_distance
+    excluded = linked_near_nodes(adjacency, near, current)
+    candidates = [k for k in np.flatnonzero(near[:current]).tolist() if k not in excluded]
+    runs: list[list[int]] = []
+    for k in candidates:
+        if runs and k == runs[-1][-1] + 1:
+            runs[-1].append(k)
+        else:
+            runs.append([k])
+    chains = [run for run in runs if len(run) >= min_chain]
+    chains.sort(key=lambda run: float(d[run].min()))
+    return chains

@@ -1,0 +1,269 @@
+"""Grid SLAM (the role of slam_toolbox in the seed): correct odometry by scan matching, close loops
+with a pose graph, and render a log-odds occupancy map in the map frame.
+
+Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_heading`` of motion):
+
+1. predict the robot pose in the map as ``map_to_odom ∘ odom``;
+2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) with the
+   correlative matcher around the prediction; a weak response keeps the prediction;
+3. add a pose-graph node with a sequential edge, and fold the scan into the log-odds grid;
+4. look for a loop closure against older, unlinked scan chains; an accepted one adds an edge,
+   re-optimises the graph and marks the map for a rebuild from the moved nodes;
+5. ``map_to_odom = pose ∘ odom⁻¹``, so the correction stays small and odom stays continuous.
+
+Scans between processed ones only update the reported pose through the last correction.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import numpy.typing as npt
+
+from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import FloatArray, Pose2D, compose, to_frame
+from nav_stack.core.grid import GridSpec
+from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
+from nav_stack.core.slam.laser import ScanPoints, scan_points
+from nav_stack.core.slam.log_odds import LogOddsGrid
+from nav_stack.core.slam.loop_closure import candidate_chains
+from nav_stack.core.slam.params import SlamParams
+from nav_stack.core.slam.pose_graph import Edge, optimize
+
+IDENTITY = Pose2D(0.0, 0.0, 0.0)
+# Below this mean smear the running-buffer match is not trusted and odometry is kept
+# (slam_toolbox's link_match_minimum_response_fine default).
+_MIN_LINK_RESPONSE = 0.1
+# Fewer usable reference or scan points than this make a match meaningless.
+_MIN_MATCH_POINTS = 20
+
+
+def between(a: Pose2D, b: Pose2D) -> Pose2D:
+    """Pose ``b`` expressed in the frame of pose ``a`` (a⁻¹ ∘ b)."""
+    x, y, yaw = to_frame(np.array([b], dtype=np.float64), a)[0]
+    return Pose2D(float(x), float(y), float(yaw))
+
+
+def inverse(a: Pose2D) -> Pose2D:
+    """The inverse transform a⁻¹."""
+    return between(a, IDENTITY)
+
+
+@dataclass(frozen=True)
+class SlamUpdate:
+    """What one ``process`` call produced.
+
+    Attributes:
+        map_to_odom: the correction to publish as the map → odom transform.
+        pose: robot (base frame) pose in the map.
+        processed: the scan became a pose-graph node (else it only refreshed ``pose``).
+        response: scan-match response in [0, 1] of a processed scan (0 when not matched).
+        loop_closed: a loop closure was accepted on this scan.
+    """
+
+    map_to_odom: Pose2D
+    pose: Pose2D
+    processed: bool
+    response: float = 0.0
+    loop_closed: bool = False
+
+
+class GridSlam:
+    """Online 2D SLAM over LaserScans and odometry; see the module docstring for the pipeline."""
+
+    def __init__(self, params: SlamParams | None = None) -> None:
+        self.params = params or SlamParams()
+        p = self.params
+        self._grid = LogOddsGrid(
+            p.resolution,
+            p.hit_probability,
+            p.miss_probability,
+            (p.clamp_min_probability, p.clamp_max_probability),
+        )
+        self._poses: FloatArray = np.zeros((0, 3))
+        self._odom: list[Pose2D] = []
+        self._scans: list[ScanPoints] = []
+        self._adjacency: list[list[int]] = []
+        self._edges: list[Edge] = []
+        self._stamp = -math.inf
+        self._map_to_odom = Pose2D(0.0, 0.0, 0.0)
+        self._map_dirty = False
+        self.loop_closures = 0
+        s_xy, s_yaw = p.link_stddev_xy, p.link_stddev_yaw
+        self._information = np.diag([1.0 / s_xy**2, 1.0 / s_xy**2, 1.0 / s_yaw**2])
+        self._link_window = SearchWindow(
+            half_extent=p.correlation_search_space_dimension / 2.0,
+            half_angle=p.coarse_search_angle_offset,
+            coarse_angle_resolution=p.coarse_angle_resolution,
+            fine_angle_resolution=p.fine_search_angle_offset,
+            distance_variance_penalty=p.distance_variance_penalty,
+            angle_variance_penalty=p.angle_variance_penalty,
+            minimum_distance_penalty=p.minimum_distance_penalty,
+            minimum_angle_penalty=p.minimum_angle_penalty,
+            refine_iterations=p.refine_iterations,
+        )
+        self._loop_window = replace(self._link_window, half_extent=p.loop_search_space_dimension / 2.0)
+
+    @property
+    def map_to_odom(self) -> Pose2D:
+        """Current map → odom correction."""
+        return self._map_to_odom
+
+    @property
+    def poses(self) -> FloatArray:
+        """(N, 3) robot poses in the map of the processed scans (pose-graph nodes), oldest first."""
+        return np.array(self._poses, dtype=np.float64, copy=True)
+
+    def process(
+        self, scan: LaserScan, odom_pose: Pose2D, stamp: float, laser_pose: Pose2D = IDENTITY
+    ) -> SlamUpdate:
+        """Feed one scan with the odometry pose (odom frame) at its ``stamp`` (s).
+
+        ``laser_pose`` is the sensor pose in the robot base frame (TF base_footprint → base_scan).
+        """
+        for name, value in (("odom_pose", odom_pose), ("laser_pose", laser_pose)):
+            if not all(math.isfinite(v) for v in value):
+                raise ValueError(f"GridSlam.process: {name} must be finite, got {tuple(value)}")
+        if not math.isfinite(stamp):
+            raise ValueError(f"GridSlam.process: stamp must be finite, got {stamp}")
+        if not self._odom:
+            start = Pose2D(*self.params.map_start_pose)
+            self._map_to_odom = compose(start, inverse(odom_pose))
+            return self._add_node(scan, odom_pose, start, stamp, laser_pose, 0.0)
+        if stamp < self._stamp:
+            raise ValueError(
+                f"GridSlam.process: stamp {stamp} is older than the last processed scan {self._stamp}"
+            )
+        predicted = compose(self._map_to_odom, odom_pose)
+        moved = between(self._odom[-1], odom_pose)
+        p = self.params
+        far_enough = (
+            math.hypot(moved.x, moved.y) >= p.minimum_travel_distance
+            or abs(moved.yaw) >= p.minimum_travel_heading
+        )
+        if not far_enough or stamp - self._stamp < p.minimum_time_interval:
+            return SlamUpdate(self._map_to_odom, predicted, processed=False)
+        points = scan_points(scan, laser_pose, p.max_laser_range)
+        pose, response = predicted, 0.0
+        if p.use_scan_matching:
+            result = self._match_running_buffer(points, predicted)
+            if result is not None and result.response >= _MIN_LINK_RESPONSE:
+                pose, response = result.pose, result.response
+        update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points)
+        if p.do_loop_closing and self._try_loop_closure():
+            latest = self._poses[-1]
+            pose = Pose2D(float(latest[0]), float(latest[1]), float(latest[2]))
+            self._map_to_odom = compose(pose, inverse(odom_pose))
+            return SlamUpdate(self._map_to_odom, pose, True, response, loop_closed=True)
+        return update
+
+    def occupancy(self) -> tuple[npt.NDArray[np.int8], GridSpec]:
+        """The map as OccupancyGrid values (100 occupied, 0 free, -1 unknown) and its GridSpec (map frame)."""
+        if self._map_dirty:
+            self._rebuild_map()
+        return self._grid.occupancy(self.params.occupied_thresh, self.params.free_thresh)
+
+    def _add_node(
+        self,
+        scan: LaserScan,
+        odom_pose: Pose2D,
+        pose: Pose2D,
+        stamp: float,
+        laser_pose: Pose2D,
+        response: float,
+        points: ScanPoints | None = None,
+    ) -> SlamUpdate:
+        if points is None:
+            points = scan_points(scan, laser_pose, self.params.max_laser_range)
+        index = len(self._odom)
+        self._poses = np.vstack((self._poses, np.array([pose], dtype=np.float64)))
+        self._odom.append(odom_pose)
+        self._scans.append(points)
+        self._adjacency.append([])
+        if index > 0:
+            prev = self._poses[index - 1]
+            z = between(Pose2D(*prev), pose)
+            self._link(index - 1, index, z)
+        self._stamp = stamp
+        self._map_to_odom = compose(pose, inverse(odom_pose))
+        if not self._map_dirty:
+            self._grid.integrate(*points.in_map(pose))
+        return SlamUpdate(self._map_to_odom, pose, processed=True, response=response)
+
+    def _link(self, i: int, j: int, z: Pose2D) -> None:
+        self._edges.append(Edge(i, j, (z.x, z.y, z.yaw), self._information))
+        self._adjacency[i].append(j)
+        self._adjacency[j].append(i)
+
+    def _hits_in_map(self, indices: list[int]) -> FloatArray:
+        parts = [self._scans[k].in_map(Pose2D(*self._poses[k]))[1] for k in indices]
+        return np.vstack(parts) if parts else np.zeros((0, 2))
+
+    def _subsample(self, hits: FloatArray) -> FloatArray:
+        step = max(1, math.ceil(len(hits) / self.params.max_scan_points))
+        return hits[::step]
+
+    def _match(
+        self, reference: FloatArray, hits: FloatArray, prior: Pose2D, window: SearchWindow
+    ) -> MatchResult | None:
+        if len(reference) < _MIN_MATCH_POINTS or len(hits) < _MIN_MATCH_POINTS:
+            return None
+        p = self.params
+        half = p.max_laser_range + window.half_extent + 3.0 * p.correlation_search_space_smear_deviation
+        grid = CorrelationGrid(
+            reference, (prior.x, prior.y), half, p.resolution, p.correlation_search_space_smear_deviation
+        )
+        return match(grid, self._subsample(hits), prior, window)
+
+    def _match_running_buffer(self, points: ScanPoints, predicted: Pose2D) -> MatchResult | None:
+        p = self.params
+        recent = range(max(0, len(self._odom) - p.scan_buffer_size), len(self._odom))
+        buffer = [
+            k
+            for k in recent
+            if math.hypot(self._poses[k, 0] - predicted.x, self._poses[k, 1] - predicted.y)
+            <= p.scan_buffer_maximum_scan_distance
+        ]
+        return self._match(self._hits_in_map(buffer), points.hits, predicted, self._link_window)
+
+    def _try_loop_closure(self) -> bool:
+        """Match the newest scan against the nearest unlinked chain; on success add the edge and optimise."""
+        p = self.params
+        current = len(self._odom) - 1
+        chains = candidate_chains(
+            self._poses,
+            self._adjacency,
+            current,
+            p.loop_search_maximum_distance,
+            p.loop_match_minimum_chain_size,
+        )
+        if not chains:
+            return False
+        chain = chains[0]
+        prior = Pose2D(*self._poses[current])
+        result = self._match(self._hits_in_map(chain), self._scans[current].hits, prior, self._loop_window)
+        if (
+            result is None
+            or result.coarse_response < p.loop_match_minimum_response_coarse
+            or result.response < p.loop_match_minimum_response_fine
+        ):
+            return False
+        matched = np.array([result.pose], dtype=np.float64)
+        d = np.hypot(self._poses[chain, 0] - matched[0, 0], self._poses[chain, 1] - matched[0, 1])
+        anchor = chain[int(np.argmin(d))]
+        self._link(anchor, current, between(Pose2D(*self._poses[anchor]), result.pose))
+        optimized = optimize(self._poses, self._edges, p.optimizer_max_iterations)
+        moved = float(np.hypot(*(optimized[:, :2] - self._poses[:, :2]).T).max())
+        self._poses = optimized
+        # Rebuilding costs one integration per node; corrections under half a cell would not change it.
+        self._map_dirty |= moved > 0.5 * p.resolution
+        self.loop_closures += 1
+        return True
+
+    def _rebuild_map(self) -> None:
+        self._grid.clear()
+        for k, points in enumerate(self._scans):
+            self._grid.integrate(*points.in_map(Pose2D(*self._poses[k])))
+        self._map_dirty = False
