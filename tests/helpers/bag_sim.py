@@ -1,0 +1,105 @@
+"""A short sim2d run recorded with ``navsuite-bag record``, and a topic counter for playback tests.
+
+sim2d runs as a child process at a real-time factor of 5; a Twist publisher (its own rclpy
+context, spun in a background thread) drives the robot in an arc while the recorder CLI records
+every topic for a few seconds of sim time.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import rclpy
+from geometry_msgs.msg import Twist
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile
+
+from tests.helpers.ros import start_python, stop_process, wait_until
+
+BAG_CLI = "ros_tools.bag.main"
+#: Sim seconds to record; with --rtf 5 that is under a second of wall time.
+RECORD_SECONDS = 3.0
+#: Wall-clock bounds for a loaded 2-core machine; a passing run is much faster.
+STARTUP_TIMEOUT = 30.0
+PROCESS_TIMEOUT = 45.0
+
+
+@dataclass
+class Recording:
+    """The recorded file and the recorder's output (for failure messages)."""
+
+    path: Path
+    output: str
+
+
+@contextmanager
+def _driver(context: Context) -> Iterator[Node]:
+    """A node publishing an arc-shaped Twist on /cmd_vel at 20 Hz (wall), spun in a thread."""
+    node = Node("bag_test_driver", context=context)
+    publisher = node.create_publisher(Twist, "/cmd_vel", 10)
+    command = Twist()
+    command.linear.x, command.angular.z = 0.2, 0.5
+    node.create_timer(0.05, lambda: publisher.publish(command))
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        yield node
+    finally:
+        executor.shutdown()
+        thread.join(timeout=5.0)
+        node.destroy_node()
+
+
+def record_sim(out: Path) -> Recording:
+    """Run sim2d, drive it, record all topics for RECORD_SECONDS of sim time into ``out``."""
+    # All three start at once: the recorder discovers sim2d's topics as they appear (-a) and
+    # counts its duration from the first message, so no startup ordering is needed.
+    sim = start_python("sim2d.ros.cli", ["--rtf", "5"])
+    recorder = start_python(BAG_CLI, [
+        "record", "-a", "-x", "^/(rosout|parameter_events)$", "-o", str(out),
+        "--use-sim-time", "--max-duration", str(RECORD_SECONDS),
+    ])
+    context = Context()
+    rclpy.init(context=context)
+    try:
+        with _driver(context):
+            wait_until(lambda: recorder.poll() is not None, STARTUP_TIMEOUT + PROCESS_TIMEOUT,
+                       "the recorder to finish")
+    finally:
+        output = stop_process(recorder)
+        rclpy.shutdown(context=context)
+        stop_process(sim)
+    assert recorder.returncode == 0, output
+    return Recording(out, output)
+
+
+@dataclass
+class TopicCounter:
+    """Subscriptions on one node that count messages per topic and keep /clock values (ns)."""
+
+    node: Node
+    counts: dict[str, int] = field(default_factory=dict)
+    clock_ns: list[int] = field(default_factory=list)
+    _subscriptions: list[Any] = field(default_factory=list)
+
+    def watch(self, topic: str, msg_type: type, latched: bool = False) -> None:
+        """Count ``topic`` (reliable, deep queue; transient local for latched topics)."""
+        qos = QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL if latched
+                         else DurabilityPolicy.VOLATILE)
+        self.counts[topic] = 0
+
+        def on_message(msg: Any) -> None:
+            self.counts[topic] += 1
+            if topic == "/clock":
+                self.clock_ns.append(msg.clock.sec * 1_000_000_000 + msg.clock.nanosec)
+
+        self._subscriptions.append(self.node.create_subscription(msg_type, topic, on_message, qos))

@@ -1,0 +1,192 @@
+"""navsuite-bag against a live sim2d: record, info, play (with and without /clock), report.
+
+One module-scoped recording of a few sim seconds feeds every test, which keeps the module at
+well under a minute.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+from nav_msgs.msg import Odometry
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import LaserScan
+from tf2_msgs.msg import TFMessage
+
+from ros_tools.bag.qos import parse_offered_qos
+from ros_tools.bag.reader import BagReader
+from ros_tools.report import ReportParams, write_report
+from tests.helpers.bag_sim import BAG_CLI, PROCESS_TIMEOUT, TopicCounter, record_sim
+from tests.helpers.ros import spin_until, start_python, stop_process
+
+pytestmark = pytest.mark.ros
+
+SIM_TOPICS = {
+    "/scan": "sensor_msgs/msg/LaserScan",
+    "/odom": "nav_msgs/msg/Odometry",
+    "/tf": "tf2_msgs/msg/TFMessage",
+    "/clock": "rosgraph_msgs/msg/Clock",
+}
+PLAYED = {"/scan": LaserScan, "/odom": Odometry, "/tf": TFMessage, "/clock": Clock}
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    return record_sim(tmp_path_factory.mktemp("bag_sim") / "sim.mcap")
+
+
+def _run(*args: str) -> tuple[int, str]:
+    proc = start_python(BAG_CLI, list(args))
+    try:
+        proc.wait(timeout=PROCESS_TIMEOUT)
+    finally:
+        output = stop_process(proc)
+    return proc.returncode, output
+
+
+def test_info_lists_the_sim_topics_with_counts(recording):
+    code, output = _run("info", str(recording.path))
+    assert code == 0, output
+    for topic, type_name in SIM_TOPICS.items():
+        line = next((line for line in output.splitlines() if f"Topic: {topic} " in line), None)
+        assert line is not None, output
+        assert f"Type: {type_name}" in line
+        assert int(line.split("Count: ")[1].split(" ")[0]) > 0, line
+    with BagReader(recording.path) as reader:  # sim time: a few seconds, not the wall-clock epoch
+        assert 2.5 <= reader.duration_ns / 1e9 <= 4.0
+        assert reader.start_ns < 1e12
+
+
+def test_file_is_a_plain_ros2_mcap(recording):
+    with recording.path.open("rb") as stream:
+        reader = make_reader(stream)
+        assert reader.get_header().profile == "ros2"
+        summary = reader.get_summary()
+        schemas = {s.id: s for s in summary.schemas.values()}
+        channels = {c.topic: c for c in summary.channels.values()}
+        assert {s.encoding for s in schemas.values()} == {"ros2msg"}
+        assert {c.message_encoding for c in channels.values()} == {"cdr"}
+        assert schemas[channels["/scan"].schema_id].name == "sensor_msgs/msg/LaserScan"
+        assert channels["/scan"].metadata["topic_type_hash"].startswith("RIHS01_")
+        (static_qos,) = parse_offered_qos(channels["/tf_static"].metadata["offered_qos_profiles"])
+        assert static_qos.durability.name == "TRANSIENT_LOCAL"
+        assert sum(1 for _ in reader.iter_messages(topics=["/odom"])) > 0
+
+
+def test_play_republishes_the_same_topics_and_counts(recording, ros_context):
+    with BagReader(recording.path) as reader:
+        expected = {topic: reader.topics[topic].count for topic in PLAYED}
+        expected_static = reader.topics["/tf_static"].count
+    node = Node("bag_play_listener", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    player = None
+    try:
+        counter = TopicCounter(node)
+        for topic, msg_type in PLAYED.items():
+            counter.watch(topic, msg_type)
+        counter.watch("/tf_static", TFMessage, latched=True)
+        player = start_python(BAG_CLI, ["play", str(recording.path), "--rate", "2", "--topics", *PLAYED,
+                                        "/tf_static", "--wait-for-subscribers", "20"])
+        spin_until(executor, lambda: player.poll() is not None and all(
+            counter.counts[t] >= n - 1 for t, n in expected.items()), PROCESS_TIMEOUT,
+            f"played counts to reach {expected}")
+        output = stop_process(player)
+        assert player.returncode == 0, output
+        for topic, count in expected.items():
+            assert abs(counter.counts[topic] - count) <= 1, (topic, counter.counts, expected)
+        assert counter.counts["/tf_static"] == expected_static
+        clock = np.array(counter.clock_ns)
+        assert np.all(np.diff(clock) >= 0) and clock[-1] - clock[0] > 2e9  # the replayed /clock advances
+    finally:
+        if player is not None:
+            stop_process(player)
+        executor.shutdown()
+        node.destroy_node()
+
+
+def test_play_with_clock_publishes_the_bag_time(recording, ros_context):
+    with BagReader(recording.path) as reader:
+        start_ns, end_ns, odom_count = reader.start_ns, reader.end_ns, reader.topics["/odom"].count
+    node = Node("bag_clock_listener", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    player = None
+    try:
+        counter = TopicCounter(node)
+        counter.watch("/clock", Clock)
+        counter.watch("/odom", Odometry)
+        player = start_python(BAG_CLI, ["play", str(recording.path), "--topics", "/odom", "--clock", "50",
+                                        "--rate", "2", "--wait-for-subscribers", "20"])
+        spin_until(executor, lambda: player.poll() is not None and counter.clock_ns
+                   and counter.clock_ns[-1] == end_ns, PROCESS_TIMEOUT, "the played /clock to reach the end")
+        output = stop_process(player)
+        assert player.returncode == 0, output
+        clock = np.array(counter.clock_ns)
+        assert clock[0] == start_ns and np.all(np.diff(clock) >= 0)
+        assert len(clock) >= 5  # published at 50 Hz for the ~1.5 s of playback, not only at the ends
+        assert abs(counter.counts["/odom"] - odom_count) <= 1
+    finally:
+        if player is not None:
+            stop_process(player)
+        executor.shutdown()
+        node.destroy_node()
+
+
+def test_looping_play_offers_latched_topics_transient_local_and_stops_on_sigint(recording, ros_context):
+    node = Node("bag_qos_probe", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    player = start_python(BAG_CLI, ["play", str(recording.path), "--loop", "--rate", "4",
+                                    "--topics", "/tf_static", "/odom"])
+    try:
+        def offered(topic: str) -> list:
+            return [info.qos_profile for info in node.get_publishers_info_by_topic(topic)
+                    if info.node_name.startswith("bag_player_")]
+
+        spin_until(executor, lambda: offered("/tf_static") and offered("/odom"), PROCESS_TIMEOUT,
+                   "the player's publishers to appear")
+        assert offered("/tf_static")[0].durability == DurabilityPolicy.TRANSIENT_LOCAL
+        assert offered("/odom")[0].durability == DurabilityPolicy.VOLATILE
+        assert player.poll() is None  # --loop keeps playing
+    finally:
+        output = stop_process(player)
+        executor.shutdown()
+        node.destroy_node()
+    assert player.returncode == 0, output
+
+
+def test_play_unknown_topic_is_a_one_line_error(recording):
+    code, output = _run("play", str(recording.path), "--topics", "/nope")
+    assert code == 1
+    lines = output.strip().splitlines()
+    assert len(lines) == 1 and "unknown topic /nope" in lines[0], output
+
+
+def test_record_unknown_topic_is_a_one_line_error(tmp_path):
+    code, output = _run("record", "/no_such_topic", "-o", str(tmp_path / "x.mcap"), "--topic-timeout", "1")
+    assert code == 1
+    lines = output.strip().splitlines()
+    assert len(lines) == 1 and "unknown topic: /no_such_topic (no publisher)" in lines[0], output
+
+
+def test_report_from_the_recording_shows_the_driven_trajectory(recording, tmp_path):
+    params = ReportParams(width_px=1000, height_px=600, dpi=80)
+    out = write_report(recording.path, tmp_path / "report.png", params)
+    from matplotlib.image import imread
+
+    from ros_tools.report.render import TRUTH_COLOR
+
+    image = (imread(out)[:, :, :3] * 255).round().astype(int)
+    assert image.shape[:2] == (600, 1000)
+    target = np.array([int(TRUTH_COLOR[i:i + 2], 16) for i in (1, 3, 5)])
+    assert (np.abs(image - target).max(axis=2) <= 12).sum() > 200
+    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 50
+    with BagReader(recording.path) as reader:
+        xy = np.array([(m.pose.pose.position.x, m.pose.pose.position.y)
+                       for _, m in reader.decoded(["/ground_truth"])])
+    assert np.hypot(*(xy[-1] - xy[0])) > 0.1  # the robot did move while recording
