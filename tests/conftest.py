@@ -1,25 +1,47 @@
 """Test-session setup shared by every test.
 
 * DDS stays on this machine: ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST unless the user chose a range.
-* Every test session gets its own ROS_DOMAIN_ID (derived from the process id, or taken from
-  NAVSUITE_TEST_DOMAIN_ID), so parallel runs, CI and a running demo never see each other.
+* Every test session claims its own ROS_DOMAIN_ID (an exclusive lock per id, or
+  NAVSUITE_TEST_DOMAIN_ID if set), so parallel runs, CI and a running demo never see each other.
   Child processes started by tests inherit both variables.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
+import tempfile
 from collections.abc import Iterator
 
 import pytest
 
+def _claim_domain_id() -> int:
+    """Pick a ROS_DOMAIN_ID no other test session on this machine holds, and hold it.
+
+    Each candidate id (1..100; 0 is left to users) has a lock file; the session keeps an exclusive
+    flock on the one it claims until it exits, so concurrent runs never share a DDS domain.
+    """
+    start = os.getpid() % 100
+    for offset in range(100):
+        domain = 1 + (start + offset) % 100
+        handle = open(os.path.join(tempfile.gettempdir(), f"navsuite-ros-domain-{domain}.lock"), "w")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        _DOMAIN_LOCKS.append(handle)  # released when the session's process exits
+        return domain
+    raise RuntimeError("all ROS domain ids 1..100 are held by other test sessions on this machine")
+
+
+_DOMAIN_LOCKS: list[object] = []
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 if "NAVSUITE_TEST_DOMAIN_ID" in os.environ:
     os.environ["ROS_DOMAIN_ID"] = os.environ["NAVSUITE_TEST_DOMAIN_ID"]
 else:
-    # Domain ids 1..100 are valid for Fast DDS with the default port mapping; 0 is left to users.
-    os.environ["ROS_DOMAIN_ID"] = str(1 + os.getpid() % 100)
+    os.environ["ROS_DOMAIN_ID"] = str(_claim_domain_id())
 
 
 @pytest.fixture
