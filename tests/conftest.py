@@ -16,6 +16,7 @@ from collections.abc import Iterator
 
 import pytest
 
+
 def _claim_domain_id() -> int:
     """Pick a ROS_DOMAIN_ID no other test session on this machine holds, and hold it.
 
@@ -25,7 +26,8 @@ def _claim_domain_id() -> int:
     start = os.getpid() % 100
     for offset in range(100):
         domain = 1 + (start + offset) % 100
-        handle = open(os.path.join(tempfile.gettempdir(), f"navsuite-ros-domain-{domain}.lock"), "w")
+        path = os.path.join(tempfile.gettempdir(), f"navsuite-ros-domain-{domain}.lock")
+        handle = open(path, "w")  # noqa: SIM115 - must stay open (locked) for the whole session
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
