@@ -13,6 +13,7 @@ import dataclasses
 import typing
 from typing import Any, TypeVar
 
+import yaml
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 
@@ -27,10 +28,17 @@ def _ros_default(value: Any) -> Any:
 
 
 def _coerce(value: Any, annotation: Any) -> Any:
-    """Convert a ROS parameter value back to the dataclass field's type (lists → tuples, int → float)."""
+    """Convert a ROS parameter value back to the dataclass field's type.
+
+    Lists become tuples, ints become floats where a float is expected (YAML ``width: 3``), and a
+    string where a tuple is expected is parsed as YAML: Nav2 writes footprints as
+    ``footprint: "[[0.2, 0.2], [0.2, -0.2], ...]"``.
+    """
     origin = typing.get_origin(annotation)
     if annotation is float and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
+    if origin is tuple and isinstance(value, str):
+        value = yaml.safe_load(value) if value.strip() else []
     if origin is tuple and isinstance(value, list | tuple):
         args = typing.get_args(annotation)
         inner = args[0] if args else Any
@@ -62,7 +70,9 @@ def declare_dataclass(node: Node, cls: type[T], prefix: str = "", **overrides: A
         name = prefix + field.name
         if not node.has_parameter(name):
             ros_default = _ros_default(default)
-            if ros_default is None or ros_default == []:  # no type to infer: let the YAML decide it
+            # No type to infer, or a float a YAML file may spell as an int: let the value decide
+            # the type, and _coerce() checks it against the dataclass.
+            if ros_default is None or ros_default == [] or isinstance(ros_default, float):
                 node.declare_parameter(name, ros_default, ParameterDescriptor(dynamic_typing=True))
             else:
                 node.declare_parameter(name, ros_default)

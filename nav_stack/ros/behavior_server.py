@@ -1,0 +1,277 @@
+"""behavior_server: the spin, backup, drive_on_heading and wait actions (Nav2 Jazzy names and codes).
+
+Each behavior is a core state machine stepped at ``cycle_frequency`` by a timer on the node clock
+(sim time in simulation) with the robot pose in ``local_frame`` from TF. Like Nav2's behaviors, the
+motion ones check ``simulate_ahead_time`` s of the commanded motion against the local costmap,
+received as ``local_costmap/costmap_raw`` with the robot outline from
+``local_costmap/published_footprint`` (converted to the robot frame when a goal starts; a 0.22 m
+circle until one arrives), and end with COLLISION_AHEAD. TIMEOUT after ``time_allowance``,
+TF_ERROR when the pose is unknown, INVALID_INPUT for BackUp/DriveOnHeading targets off the x axis.
+
+One behavior runs at a time (they share cmd_vel): a new goal of any behavior aborts the running
+one. A cancel publishes a zero command at once; every end publishes a zero command.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from geometry_msgs.msg import PolygonStamped
+from nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
+from nav2_msgs.msg import Costmap
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+from nav_stack.core import behaviors
+from nav_stack.core.behaviors import BehaviorParams, BehaviorResult
+from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
+from nav_stack.core.geometry import to_frame
+from nav_stack.ros.cmd_vel import CmdVelPublisher
+from nav_stack.ros.conversions import duration_msg, duration_to_seconds, spec_from_info
+from nav_stack.ros.frames import FrameError, Frames
+from nav_stack.ros.goal_runs import GoalRun, Outcome
+from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.node_runner import run as run_nodes
+from nav_stack.ros.param_layout import param
+from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.qos import LATCHED
+
+#: plugin type -> (action type, TF_ERROR code)
+BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
+    "Spin": (Spin, int(behaviors.SpinErrorCode.TF_ERROR)),
+    "BackUp": (BackUp, int(behaviors.BackUpErrorCode.TF_ERROR)),
+    "DriveOnHeading": (DriveOnHeading, int(behaviors.DriveOnHeadingErrorCode.TF_ERROR)),
+    "Wait": (Wait, 0),
+}
+DEFAULT_TYPES = {"spin": "Spin", "backup": "BackUp", "drive_on_heading": "DriveOnHeading", "wait": "Wait"}
+
+
+@dataclass(frozen=True)
+class BehaviorServerParams:
+    """behavior_server knobs besides the core's BehaviorParams (Jazzy yaml values)."""
+
+    behavior_plugins: tuple[str, ...] = ("spin", "backup", "drive_on_heading", "wait")
+    local_frame: str = "odom"
+    global_frame: str = "map"
+    robot_base_frame: str = "base_link"
+    transform_tolerance: float = 0.1
+    local_costmap_topic: str = "local_costmap/costmap_raw"
+    local_footprint_topic: str = "local_costmap/published_footprint"
+    enable_stamped_cmd_vel: bool = False
+
+
+class _BehaviorRun(GoalRun):
+    def __init__(self, handle: Any, result: Any, behavior: Any, kind: str, tf_error: int) -> None:
+        super().__init__(handle, result)
+        self.behavior, self.kind, self.tf_error = behavior, kind, tf_error
+
+
+class BehaviorServer(NavLifecycleNode):
+    """The ``behavior_server`` node."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__("behavior_server", **kwargs)
+        self._lock = threading.Lock()
+        self._cycle_group = MutuallyExclusiveCallbackGroup()
+        self._action_group = ReentrantCallbackGroup()
+        self._current: _BehaviorRun | None = None
+        self._grid: CostGrid | None = None
+        self._footprint_msg: PolygonStamped | None = None
+        self._active = False
+
+    # -- lifecycle ---------------------------------------------------------------------------------
+    def configure(self) -> None:
+        p = self.params = declare_dataclass(self, BehaviorServerParams)
+        self.behavior_params = declare_dataclass(self, BehaviorParams)
+        self.frames = Frames(self, p.robot_base_frame)
+        self._cmd = CmdVelPublisher(self, p.enable_stamped_cmd_vel, p.robot_base_frame)
+        self._subs = [
+            self.create_subscription(Costmap, p.local_costmap_topic, self._on_costmap, LATCHED),
+            self.create_subscription(PolygonStamped, p.local_footprint_topic, self._on_footprint, LATCHED),
+        ]
+        self._servers = []
+        for name in p.behavior_plugins:
+            plugin = str(param(self, f"{name}.plugin", f"nav2_behaviors::{DEFAULT_TYPES.get(name, '')}"))
+            kind = plugin.replace("/", "::").split("::")[-1]
+            if kind not in BEHAVIOR_TYPES:
+                raise ValueError(f"behavior_server: {name}.plugin '{plugin}' is not one of "
+                                 f"{sorted(BEHAVIOR_TYPES)}")
+            action_type, tf_error = BEHAVIOR_TYPES[kind]
+            self._servers.append(ActionServer(
+                self, action_type, name, lambda handle, k=kind, t=tf_error: self._execute(handle, k, t),
+                callback_group=self._action_group, goal_callback=self._accept_goal,
+                cancel_callback=self._cancel))
+
+    def activate(self) -> None:
+        self._timer = self.create_timer(1.0 / self.behavior_params.cycle_frequency, self._cycle,
+                                        callback_group=self._cycle_group)
+        self._active = True
+
+    def deactivate(self) -> None:
+        self._active = False
+        self.destroy_timer(self._timer)
+        with self._lock:
+            if self._current is not None:
+                self._current.finish(Outcome.ABORTED, 0, "behavior_server deactivated")
+                self._current = None
+            self._cmd.stop()
+
+    def cleanup(self) -> None:
+        for server in self._servers:
+            server.destroy()
+        for sub in self._subs:
+            self.destroy_subscription(sub)
+        self._cmd.destroy()
+        self.frames.destroy()
+
+    # -- inputs ------------------------------------------------------------------------------------
+    def _on_costmap(self, msg: Costmap) -> None:
+        if msg.header.frame_id.lstrip("/") != self.params.local_frame:
+            self.get_logger().warn(f"ignoring a costmap in frame '{msg.header.frame_id}', expected "
+                                   f"'{self.params.local_frame}'", throttle_duration_sec=10.0)
+            return
+        spec = spec_from_info(msg.metadata)
+        self._grid = CostGrid(np.frombuffer(msg.data, dtype=np.uint8).reshape(spec.shape).copy(), spec)
+
+    def _on_footprint(self, msg: PolygonStamped) -> None:
+        self._footprint_msg = msg
+
+    def _footprint(self) -> Any:
+        """The robot outline in the robot frame, from the last published footprint (Nav2's way)."""
+        msg = self._footprint_msg
+        if msg is None or len(msg.polygon.points) < 3:
+            return CircleFootprint()
+        try:
+            robot = self.frames.robot_pose(msg.header.frame_id)
+        except FrameError:
+            return CircleFootprint()
+        pts = np.array([(p.x, p.y, 0.0) for p in msg.polygon.points])
+        local = to_frame(pts, robot)
+        return PolygonFootprint(tuple((float(x), float(y)) for x, y in local[:, :2]))
+
+    # -- goals -------------------------------------------------------------------------------------
+    def _accept_goal(self, goal: Any) -> GoalResponse:
+        return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
+
+    def _now(self) -> float:
+        return float(self.get_clock().now().nanoseconds * 1e-9)
+
+    def _start(self, handle: Any, kind: str, tf_error: int) -> _BehaviorRun:
+        goal, action_type = handle.request, BEHAVIOR_TYPES[kind][0]
+        params = self.behavior_params
+        if kind == "Wait":
+            behavior: Any = behaviors.Wait()
+            run = _BehaviorRun(handle, action_type.Result(), behavior, kind, tf_error)
+            refused = behavior.start(duration_to_seconds(goal.time), self._now())
+        else:
+            footprint = self._footprint()
+            if kind == "Spin":
+                behavior = behaviors.Spin(params, footprint)
+                core_goal: Any = behaviors.SpinGoal(goal.target_yaw, duration_to_seconds(goal.time_allowance))
+            else:
+                drive = behaviors.BackUp if kind == "BackUp" else behaviors.DriveOnHeading
+                behavior = drive(params, footprint)
+                core_goal = behaviors.DriveGoal(goal.target.x, goal.speed,
+                                                duration_to_seconds(goal.time_allowance), goal.target.y,
+                                                goal.target.z)
+            run = _BehaviorRun(handle, action_type.Result(), behavior, kind, tf_error)
+            try:
+                pose = self.frames.robot_pose(self.params.local_frame)
+            except FrameError as error:
+                run.finish(Outcome.ABORTED, tf_error, str(error))
+                return run
+            refused = behavior.start(core_goal, pose, self._now())
+        if refused is not None:
+            run.finish(Outcome.ABORTED, refused.error_code, refused.error_msg)
+        return run
+
+    def _execute(self, handle: Any, kind: str, tf_error: int) -> Any:
+        run = self._start(handle, kind, tf_error)
+        if not run.finished:
+            with self._lock:
+                if self._current is not None:
+                    self._current.finish(Outcome.ABORTED, 0, f"preempted by a new {kind} goal")
+                self._current = run
+            self.get_logger().info(f"running {kind}")
+        result = run.wait(self.context)
+        return result
+
+    def _cancel(self, handle: Any) -> CancelResponse:
+        with self._lock:
+            run = self._current
+            if run is not None and run.handle is handle:
+                run.stop_requested = True
+                self._cmd.stop()
+        return CancelResponse.ACCEPT
+
+    # -- the cycle ---------------------------------------------------------------------------------
+    def _cycle(self) -> None:
+        with self._lock:
+            run = self._current
+            if run is None or run.finished:
+                self._current = None
+                return
+            if run.stop_requested:
+                if run.handle.is_cancel_requested:
+                    self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0))
+                return
+            now = self._now()
+            if run.kind == "Wait":
+                outcome = run.behavior.step(now)
+                run.handle.publish_feedback(Wait.Feedback(time_left=duration_msg(run.behavior.time_left)))
+                if outcome is not None:
+                    self._end(run, Outcome.SUCCEEDED, outcome)
+                return
+            try:
+                pose = self.frames.robot_pose(self.params.local_frame)
+            except FrameError as error:
+                self._end(run, Outcome.ABORTED, BehaviorResult(run.tf_error, str(error), 0.0))
+                return
+            step = run.behavior.step(pose, now, self._grid)
+            if isinstance(step, BehaviorResult):
+                self._end(run, Outcome.SUCCEEDED if step.succeeded else Outcome.ABORTED, step)
+                return
+            self._cmd.publish(step.vx, step.wz)
+            self._feedback(run)
+
+    def _feedback(self, run: _BehaviorRun) -> None:
+        action_type = BEHAVIOR_TYPES[run.kind][0]
+        feedback = action_type.Feedback()
+        if run.kind == "Spin":
+            feedback.angular_distance_traveled = float(run.behavior.angular_distance_traveled)
+        else:
+            feedback.distance_traveled = float(run.behavior.distance_traveled)
+        run.handle.publish_feedback(feedback)
+
+    def _end(self, run: _BehaviorRun, outcome: Outcome, result: BehaviorResult) -> None:
+        if run.kind != "Wait":
+            self._cmd.stop()
+        if outcome is Outcome.ABORTED:
+            self.get_logger().warn(f"{run.kind} failed ({result.error_code}): {result.error_msg}")
+        run.result.total_elapsed_time = duration_msg(result.total_elapsed_time)
+        run.finish(outcome, result.error_code if outcome is not Outcome.CANCELED else 0,
+                   result.error_msg if outcome is Outcome.ABORTED else "")
+        self._current = None
+
+
+def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
+    """The behavior_server node (a list, like the other servers' ``build_nodes``)."""
+    if use_sim_time:
+        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
+                                         Parameter("use_sim_time", value=True)]
+    return [BehaviorServer(**kwargs)]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m nav_stack.ros.behavior_server [--autostart] [--ros-args ...]``."""
+    return run_nodes(build_nodes, argv)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,43 @@
+"""The velocity command publisher of controller_server and behavior_server.
+
+Nav2 Jazzy publishes geometry_msgs/Twist on ``cmd_vel`` unless ``enable_stamped_cmd_vel`` is true,
+then TwistStamped (frame = robot base). A subscriber of the other type silently gets nothing, so
+both servers take the same parameter as sim2d.
+"""
+
+from __future__ import annotations
+
+from geometry_msgs.msg import Twist, TwistStamped
+from rclpy.node import Node
+
+from nav_stack.ros.qos import DEFAULT
+
+
+class CmdVelPublisher:
+    """Publishes (vx, wz) as Twist or TwistStamped on ``topic``."""
+
+    def __init__(self, node: Node, stamped: bool, frame_id: str = "base_link",
+                 topic: str = "cmd_vel") -> None:
+        self._node = node
+        self.stamped = stamped
+        self.frame_id = frame_id
+        self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, DEFAULT)
+
+    def publish(self, vx: float, wz: float) -> None:
+        twist = Twist()
+        twist.linear.x, twist.angular.z = float(vx), float(wz)
+        if not self.stamped:
+            self.publisher.publish(twist)
+            return
+        msg = TwistStamped()
+        msg.header.frame_id = self.frame_id
+        msg.header.stamp = self._node.get_clock().now().to_msg()
+        msg.twist = twist
+        self.publisher.publish(msg)
+
+    def stop(self) -> None:
+        """Publish a zero command."""
+        self.publish(0.0, 0.0)
+
+    def destroy(self) -> None:
+        self._node.destroy_publisher(self.publisher)

@@ -1,0 +1,125 @@
+"""Controller, goal-checker and progress-checker plugins of controller_server, built from Nav2 parameters.
+
+Plugin ids come from ``controller_plugins``, ``goal_checker_plugins``, ``progress_checker_plugins``;
+each id's type from ``<id>.plugin`` (Nav2 class names, ``::`` or Humble's ``/``), its knobs from
+``<id>.<knob>``. DWB critic knobs use Nav2's spelling (``FollowPath.PathAlign.scale``). RPP's
+inscribed radius comes from the local costmap, its goal distance from the goal checker and its
+rate from ``controller_frequency``, as in Nav2, not from its own parameters.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from typing import Any
+
+from rclpy.node import Node
+
+from nav_stack.core.control import (
+    ControllerPlugins,
+    DWBController,
+    DWBParams,
+    Footprint,
+    GoalCheckerParams,
+    ProgressCheckerParams,
+    RegulatedPurePursuit,
+    RPPParams,
+    SimpleGoalChecker,
+    SimpleProgressChecker,
+    StoppedGoalChecker,
+)
+from nav_stack.core.control.server import LocalController
+from nav_stack.ros.param_layout import build, declare_fields, declare_renamed, param
+from nav_stack.ros.params import declare_dataclass
+
+DWB_CRITIC_NAMES = {
+    "base_obstacle_scale": "BaseObstacle.scale",
+    "base_obstacle_sum_scores": "BaseObstacle.sum_scores",
+    "path_align_scale": "PathAlign.scale",
+    "path_align_forward_point_distance": "PathAlign.forward_point_distance",
+    "goal_align_scale": "GoalAlign.scale",
+    "goal_align_forward_point_distance": "GoalAlign.forward_point_distance",
+    "path_dist_scale": "PathDist.scale",
+    "goal_dist_scale": "GoalDist.scale",
+    "rotate_to_goal_scale": "RotateToGoal.scale",
+    "rotate_to_goal_slowing_factor": "RotateToGoal.slowing_factor",
+    "rotate_to_goal_lookahead_time": "RotateToGoal.lookahead_time",
+    "oscillation_scale": "Oscillation.scale",
+    "oscillation_reset_dist": "Oscillation.oscillation_reset_dist",
+    "oscillation_reset_angle": "Oscillation.oscillation_reset_angle",
+    "x_only_threshold": "Oscillation.x_only_threshold",
+}
+RPP_FROM_SERVER = ("inscribed_radius", "goal_dist_tol", "controller_frequency")
+DEFAULT_TYPES = {
+    "FollowPath": "dwb_core::DWBLocalPlanner",
+    "DWB": "dwb_core::DWBLocalPlanner",
+    "RPP": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
+    "general_goal_checker": "nav2_controller::SimpleGoalChecker",
+    "goal_checker": "nav2_controller::SimpleGoalChecker",
+    "stopped_goal_checker": "nav2_controller::StoppedGoalChecker",
+    "progress_checker": "nav2_controller::SimpleProgressChecker",
+}
+
+
+def _kind(node: Node, plugin_id: str) -> str:
+    plugin = str(param(node, f"{plugin_id}.plugin", DEFAULT_TYPES.get(plugin_id, "")))
+    return plugin.replace("/", "::").split("::")[-1]
+
+
+def _unknown(node: Node, plugin_id: str, kind: str, known: Sequence[str]) -> ValueError:
+    return ValueError(f"{node.get_name()}: {plugin_id}.plugin '{kind}' is not one of {list(known)}")
+
+
+def _dwb(node: Node, plugin_id: str, footprint: Footprint) -> DWBController:
+    flat = [f.name for f in dataclasses.fields(DWBParams) if f.name not in DWB_CRITIC_NAMES]
+    values = declare_fields(node, DWBParams, flat, f"{plugin_id}.")
+    values.update(declare_renamed(node, DWBParams, f"{plugin_id}.", DWB_CRITIC_NAMES))
+    return DWBController(build(node, DWBParams, values, plugin_id), footprint)
+
+
+def _rpp(
+    node: Node, plugin_id: str, footprint: Footprint, from_server: dict[str, float]
+) -> RegulatedPurePursuit:
+    own = [f.name for f in dataclasses.fields(RPPParams) if f.name not in RPP_FROM_SERVER]
+    values = declare_fields(node, RPPParams, own, f"{plugin_id}.") | from_server
+    return RegulatedPurePursuit(build(node, RPPParams, values, plugin_id), footprint)
+
+
+def build_plugins(
+    node: Node,
+    controller_ids: Sequence[str],
+    goal_checker_ids: Sequence[str],
+    progress_checker_ids: Sequence[str],
+    footprint: Footprint,
+    inscribed_radius: float,
+    controller_frequency: float,
+) -> ControllerPlugins:
+    """Every configured plugin; ValueError naming the id for an unknown ``plugin`` type."""
+    goal_checkers: dict[str, SimpleGoalChecker] = {}
+    for gid in goal_checker_ids:
+        kind = _kind(node, gid)
+        checker_cls = {"SimpleGoalChecker": SimpleGoalChecker,
+                       "StoppedGoalChecker": StoppedGoalChecker}.get(kind)
+        if checker_cls is None:
+            raise _unknown(node, gid, kind, ["SimpleGoalChecker", "StoppedGoalChecker"])
+        goal_checkers[gid] = checker_cls(declare_dataclass(node, GoalCheckerParams, f"{gid}."))
+    progress: dict[str, SimpleProgressChecker] = {}
+    for pid in progress_checker_ids:
+        kind = _kind(node, pid)
+        if kind != "SimpleProgressChecker":
+            raise _unknown(node, pid, kind, ["SimpleProgressChecker"])
+        progress[pid] = SimpleProgressChecker(declare_dataclass(node, ProgressCheckerParams, f"{pid}."))
+    xy_tolerance = min((c.params.xy_goal_tolerance for c in goal_checkers.values()), default=0.25)
+    controllers: dict[str, LocalController] = {}
+    for cid in controller_ids:
+        kind = _kind(node, cid)
+        if kind == "DWBLocalPlanner":
+            controllers[cid] = _dwb(node, cid, footprint)
+        elif kind == "RegulatedPurePursuitController":
+            from_server: dict[str, Any] = {"inscribed_radius": inscribed_radius,
+                                           "goal_dist_tol": xy_tolerance,
+                                           "controller_frequency": controller_frequency}
+            controllers[cid] = _rpp(node, cid, footprint, from_server)
+        else:
+            raise _unknown(node, cid, kind, ["DWBLocalPlanner", "RegulatedPurePursuitController"])
+    return ControllerPlugins(controllers, goal_checkers, progress)

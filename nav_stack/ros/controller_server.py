@@ -1,0 +1,309 @@
+"""controller_server: FollowPath on the local costmap at ``controller_frequency`` (Nav2 Jazzy names, codes).
+
+The node owns the ``local_costmap`` CostmapROS node (same process). Plugins are selected per goal by
+``controller_id`` / ``goal_checker_id`` / ``progress_checker_id``; an empty id takes the last
+``controller_selector`` / ``goal_checker_selector`` message, else the first configured plugin.
+
+Each control cycle (a timer on the node clock, so sim time paces it): robot pose from TF in the
+path's frame and in the costmap frame, speed from ``odom``; goal reached → zero command, SUCCEEDED;
+progress checker → FAILED_TO_MAKE_PROGRESS (105); otherwise the controller computes a command from
+the pruned local path. A controller that finds no valid command publishes zero and, after
+``failure_tolerance`` s, ends with PATIENCE_EXCEEDED (104), or at once with NO_VALID_CONTROL (106)
+when the tolerance is 0 (Nav2's rule). An empty path is INVALID_PATH (103), an unknown id
+INVALID_CONTROLLER (101), a missing transform TF_ERROR (102).
+
+A new goal while one runs takes over at the next cycle: with the same controller the plugins keep
+their state and only the path changes (no stop, the goal checker restarts); the old goal is aborted
+with error code 0 and "preempted", as Nav2's action server does. A cancel publishes a zero command
+inside the cancel callback, under the lock the cycle publishes with, so the next /cmd_vel is zero.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from nav2_msgs.action import FollowPath
+from nav_msgs.msg import Odometry, Path
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+from nav_stack.core.control import (
+    CircleFootprint,
+    ControllerError,
+    ControllerErrorCode,
+    ControllerPlugins,
+    CostGrid,
+    InvalidController,
+    NoValidControl,
+    PathHandler,
+    PolygonFootprint,
+    Twist2D,
+)
+from nav_stack.core.costmap import CostmapParams
+from nav_stack.ros.cmd_vel import CmdVelPublisher
+from nav_stack.ros.controller_plugins import build_plugins
+from nav_stack.ros.conversions import path_from_array, path_to_array
+from nav_stack.ros.costmap_ros import CostmapROS, run_transition
+from nav_stack.ros.frames import FrameError
+from nav_stack.ros.goal_runs import GoalRun, Outcome
+from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.node_runner import run as run_nodes
+from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.selectors import Selector
+
+Code = ControllerErrorCode
+
+
+@dataclass(frozen=True)
+class ControllerServerParams:
+    """controller_server knobs (Nav2 code defaults; the Jazzy yaml sets failure_tolerance 0.3)."""
+
+    controller_frequency: float = 20.0  # Hz
+    controller_plugins: tuple[str, ...] = ("FollowPath",)
+    goal_checker_plugins: tuple[str, ...] = ("general_goal_checker",)
+    progress_checker_plugins: tuple[str, ...] = ("progress_checker",)
+    failure_tolerance: float = 0.0  # s without a valid command before giving up; -1 = forever
+    min_x_velocity_threshold: float = 0.0001  # m/s; odometry below it reads as 0
+    min_theta_velocity_threshold: float = 0.0001  # rad/s
+    costmap_update_timeout: float = 0.30  # s a goal waits for a first local costmap
+    enable_stamped_cmd_vel: bool = False
+    odom_topic: str = "odom"
+
+    def __post_init__(self) -> None:
+        if not self.controller_frequency > 0.0:
+            raise ValueError(f"controller_frequency must be > 0 Hz, got {self.controller_frequency}")
+
+
+class _PathRun(GoalRun):
+    """A FollowPath goal and the plugins and path state that steer it."""
+
+    def __init__(self, handle: Any, ids: tuple[str, str, str]) -> None:
+        super().__init__(handle, FollowPath.Result())
+        self.ids = ids
+        self.handler = PathHandler()
+        self.frame = handle.request.path.header.frame_id
+        self.last_valid = -math.inf
+
+
+class ControllerServer(NavLifecycleNode):
+    """The ``controller_server`` node; :attr:`costmap_node` must be spun by the same executor."""
+
+    def __init__(self, costmap_node: CostmapROS | None = None, **kwargs: Any) -> None:
+        super().__init__("controller_server", **kwargs)
+        self.costmap_node = costmap_node or CostmapROS(
+            "local_costmap", defaults=CostmapParams.local_defaults(), **kwargs)
+        self._lock = threading.Lock()
+        self._cycle_group = MutuallyExclusiveCallbackGroup()
+        self._action_group = ReentrantCallbackGroup()
+        self._current: _PathRun | None = None
+        self._velocity = Twist2D(0.0, 0.0)
+        self._speed = 0.0  # m/s, from odometry, for the feedback
+        self._active = False
+        self._entities: list[Any] = []
+
+    # -- lifecycle ---------------------------------------------------------------------------------
+    def configure(self) -> None:
+        p = self.params = declare_dataclass(self, ControllerServerParams)
+        run_transition(self.costmap_node, "configure")
+        costmap = self.costmap_node.costmap
+        assert costmap is not None
+        cp = self.costmap_node.params
+        footprint: Any = (PolygonFootprint(cp.footprint) if cp.footprint
+                          else CircleFootprint(costmap.inscribed_radius))
+        self.plugins: ControllerPlugins = build_plugins(
+            self, p.controller_plugins, p.goal_checker_plugins, p.progress_checker_plugins, footprint,
+            costmap.inscribed_radius, p.controller_frequency)
+        self._cmd = CmdVelPublisher(self, p.enable_stamped_cmd_vel, cp.robot_base_frame)
+        self._pub_local_plan = self.create_publisher(Path, "local_plan", DEFAULT)
+        self._selectors = [Selector(self, "controller_selector"), Selector(self, "goal_checker_selector")]
+        self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
+        self._server = ActionServer(self, FollowPath, "follow_path", self._execute,
+                                    callback_group=self._action_group, goal_callback=self._accept_goal,
+                                    cancel_callback=self._cancel)
+
+    def activate(self) -> None:
+        run_transition(self.costmap_node, "activate")
+        self._timer = self.create_timer(1.0 / self.params.controller_frequency, self._cycle,
+                                        callback_group=self._cycle_group)
+        self._active = True
+
+    def deactivate(self) -> None:
+        self._active = False
+        self.destroy_timer(self._timer)
+        with self._lock:
+            if self._current is not None:
+                self._current.finish(Outcome.ABORTED, Code.UNKNOWN, "controller_server deactivated")
+                self._current = None
+            self._cmd.stop()
+        run_transition(self.costmap_node, "deactivate")
+
+    def cleanup(self) -> None:
+        self._server.destroy()
+        for selector in self._selectors:
+            selector.destroy()
+        self.destroy_subscription(self._odom_sub)
+        self.destroy_publisher(self._pub_local_plan)
+        self._cmd.destroy()
+        run_transition(self.costmap_node, "cleanup")
+
+    # -- action callbacks --------------------------------------------------------------------------
+    def _accept_goal(self, goal: Any) -> GoalResponse:
+        return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
+
+    def _on_odom(self, msg: Odometry) -> None:
+        p, twist = self.params, msg.twist.twist
+        vx = twist.linear.x if abs(twist.linear.x) >= p.min_x_velocity_threshold else 0.0
+        wz = twist.angular.z if abs(twist.angular.z) >= p.min_theta_velocity_threshold else 0.0
+        self._velocity = Twist2D(vx, wz)
+        self._speed = math.hypot(twist.linear.x, twist.linear.y)
+
+    def _execute(self, handle: Any) -> FollowPath.Result:
+        goal = handle.request
+        controller_sel, checker_sel = self._selectors
+        p = self.params
+        ids = (controller_sel.resolve(goal.controller_id, p.controller_plugins[0]),
+               checker_sel.resolve(goal.goal_checker_id, p.goal_checker_plugins[0]),
+               goal.progress_checker_id or p.progress_checker_plugins[0])
+        run = _PathRun(handle, ids)
+        try:
+            controller, checker, progress = self._plugins(ids)
+            run.handler.set_plan(path_to_array(goal.path))
+        except ControllerError as error:
+            run.finish(Outcome.ABORTED, error.code, error.message)
+            return run.wait(self.context)
+        with self._lock:
+            old = self._current
+            seamless = old is not None and not old.finished and old.ids[0] == ids[0]
+            if old is not None:
+                old.finish(Outcome.ABORTED, Code.NONE, "preempted by a newer goal")
+            if seamless:
+                checker.reset()
+                run.last_valid = old.last_valid  # type: ignore[union-attr]
+            else:
+                for plugin in (controller, checker, progress):
+                    plugin.reset()
+            self._current = run
+        self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
+                               + (" (path updated)" if seamless else ""))
+        return run.wait(self.context)
+
+    def _plugins(self, ids: tuple[str, str, str]) -> tuple[Any, Any, Any]:
+        sets: tuple[Mapping[str, Any], ...] = (
+            self.plugins.controllers, self.plugins.goal_checkers, self.plugins.progress_checkers
+        )
+        for plugin_id, plugins, kind in zip(ids, sets, ("controller", "goal checker", "progress checker"),
+                                            strict=True):
+            if plugin_id not in plugins:
+                raise InvalidController(f"{kind} id '{plugin_id}' is not one of {sorted(plugins)}")
+        return tuple(s[i] for s, i in zip(sets, ids, strict=True))  # type: ignore[return-value]
+
+    def _cancel(self, handle: Any) -> CancelResponse:
+        with self._lock:
+            run = self._current
+            if run is not None and run.handle is handle:
+                run.stop_requested = True
+                self._cmd.stop()
+        return CancelResponse.ACCEPT
+
+    # -- the control cycle -------------------------------------------------------------------------
+    def _cycle(self) -> None:
+        with self._lock:
+            run = self._current
+            if run is None or run.finished:
+                self._current = None
+                return
+            if run.stop_requested:
+                if run.handle.is_cancel_requested:
+                    self._end(run, Outcome.CANCELED, Code.NONE, "canceled")
+                return
+            try:
+                self._control(run)
+            except ControllerError as error:
+                self._end(run, Outcome.ABORTED, error.code, error.message)
+            except FrameError as error:
+                self._end(run, Outcome.ABORTED, Code.TF_ERROR, str(error))
+            except Exception as error:  # a plugin bug must become UNKNOWN, never kill the server
+                self.get_logger().error(f"controller failed: {type(error).__name__}: {error}")
+                self._end(run, Outcome.ABORTED, Code.UNKNOWN, f"{type(error).__name__}: {error}")
+
+    def _end(self, run: _PathRun, outcome: Outcome, code: int, message: str) -> None:
+        self._cmd.stop()
+        if outcome is not Outcome.SUCCEEDED:
+            self.get_logger().warn(f"follow_path {outcome.value} ({code}): {message}")
+        run.finish(outcome, code, message if outcome is not Outcome.SUCCEEDED else "")
+        self._current = None
+
+    def _control(self, run: _PathRun) -> None:
+        snap = self.costmap_node.snapshot()
+        frames = self.costmap_node.frames
+        now = self.get_clock().now().nanoseconds * 1e-9
+        if run.last_valid == -math.inf:
+            run.last_valid = now
+        if snap is None or frames is None:
+            if now - run.last_valid > self.params.costmap_update_timeout:
+                raise ControllerError("the local costmap has no data (no scan or no robot pose)")
+            return
+        controller, checker, progress = self._plugins(run.ids)
+        local_frame = self.costmap_node.global_frame
+        robot = frames.robot_pose(run.frame)
+        velocity = self._velocity
+        if checker.is_goal_reached(robot, run.handler.goal, velocity):
+            self.get_logger().info(f"goal {tuple(round(v, 3) for v in run.handler.goal)} reached at "
+                                   f"{tuple(round(v, 3) for v in robot)} ({run.frame})")
+            self._end(run, Outcome.SUCCEEDED, Code.NONE, "")
+            return
+        if checker.xy_reached:
+            progress.reset()  # a final rotation in place is not a lack of progress
+        if not progress.check(robot, now):
+            self._end(run, Outcome.ABORTED, Code.FAILED_TO_MAKE_PROGRESS,
+                      f"the robot moved less than {progress.params.required_movement_radius} m in "
+                      f"{progress.params.movement_time_allowance} s")
+            return
+        grid = CostGrid(*snap)
+        local_path = run.handler.local_path(robot, frames.frame_pose(local_frame, run.frame), grid)
+        try:
+            cmd = controller.compute_velocity(frames.robot_pose(local_frame), velocity, local_path, grid)
+            run.last_valid = now
+        except NoValidControl as error:
+            tolerance = self.params.failure_tolerance
+            if tolerance == 0.0:
+                raise
+            cmd = Twist2D(0.0, 0.0)
+            if tolerance != -1.0 and now - run.last_valid > tolerance:
+                self._end(run, Outcome.ABORTED, Code.PATIENCE_EXCEEDED,
+                          f"no valid command for {tolerance} s: {error.message}")
+                return
+        self._cmd.publish(cmd.vx, cmd.wz)
+        trajectory = getattr(controller, "last_trajectory", None)
+        if trajectory is not None and len(trajectory):
+            stamp = self.get_clock().now().to_msg()
+            self._pub_local_plan.publish(path_from_array(trajectory, local_frame, stamp))
+        feedback = FollowPath.Feedback()
+        feedback.distance_to_goal = float(run.handler.distance_to_goal(robot))
+        feedback.speed = float(self._speed)
+        run.handle.publish_feedback(feedback)
+
+
+def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
+    """controller_server and its local_costmap node, ready to add to one MultiThreadedExecutor."""
+    if use_sim_time:
+        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
+                                         Parameter("use_sim_time", value=True)]
+    server = ControllerServer(**kwargs)
+    return [server, server.costmap_node]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m nav_stack.ros.controller_server [--autostart] [--ros-args ...]``."""
+    return run_nodes(build_nodes, argv)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,237 @@
+"""CostmapROS: a lifecycle node hosting a core LayeredCostmap, like nav2_costmap_2d::Costmap2DROS.
+
+Nav2 runs a costmap as its own lifecycle node inside the server that uses it: planner_server owns
+``global_costmap`` (namespace ``global_costmap``), controller_server owns ``local_costmap``. The
+owner drives this node's transitions from its own and reads the costs directly through
+:meth:`snapshot`, a copy taken under the lock the update timer holds, so a planner thread never
+sees a half-updated grid.
+
+Data in: the map (``<static>.map_topic``, transient local), laser scans (``<obstacle>.<source>.topic``,
+sensor QoS), the robot pose from TF. A scan is added with the sensor pose at its stamp; when TF has
+not caught up with the stamp yet the scan waits (at most ``transform_tolerance`` + 1 s) and is
+retried each cycle. Readings follow REP 117: -inf (closer than range_min) and NaN are dropped, +inf
+("no return") clears up to the raytrace range when ``inf_is_valid`` (our yaml enables it).
+
+Out: ``costmap`` (OccupancyGrid), ``costmap_raw`` (nav2_msgs/Costmap), ``published_footprint``
+(PolygonStamped), all reliable transient local depth 1, at ``publish_frequency``; services
+``clear_entirely_<name>`` and ``get_costmap``. Relative topic names resolve against the owner's
+namespace (Nav2's joinWithParentNamespace), so ``map`` is ``/map``.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+
+import numpy as np
+from geometry_msgs.msg import Point32, PolygonStamped
+from nav2_msgs.msg import Costmap
+from nav2_msgs.srv import ClearEntireCostmap, GetCostmap
+from nav_msgs.msg import OccupancyGrid
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
+from rclpy.qos import QoSProfile
+from sensor_msgs.msg import LaserScan as LaserScanMsg
+
+from nav_stack.core.costmap import (
+    CostmapParams,
+    LaserScan,
+    LayeredCostmap,
+    ObstacleLayer,
+    StaticLayer,
+)
+from nav_stack.core.grid import GridSpec, occupancy_from_cost
+from nav_stack.ros.conversions import costmap_msg, grid_from_occupancy, occupancy_msg
+from nav_stack.ros.costmap_params import build_layers, declare_costmap_params
+from nav_stack.ros.frames import FrameError, Frames
+from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
+from ros_tools.tf import TransformError
+from ros_tools.tf.ros import stamp_to_seconds
+
+SCAN_WAIT_SLACK = 1.0  # s a scan may wait for TF beyond transform_tolerance
+
+
+def run_transition(node: LifecycleNode, transition: str) -> None:
+    """Drive an owned node through ``configure``/``activate``/``deactivate``/``cleanup``; raise on failure."""
+    outcome = getattr(node, f"trigger_{transition}")()
+    if outcome != TransitionCallbackReturn.SUCCESS:
+        raise RuntimeError(f"{node.get_name()}: {transition} failed (see its log)")
+
+
+class CostmapROS(NavLifecycleNode):
+    """``global_costmap`` / ``local_costmap`` node; call :meth:`snapshot` from any thread."""
+
+    def __init__(self, name: str = "global_costmap", namespace: str | None = None,
+                 parent_namespace: str = "/", defaults: CostmapParams | None = None,
+                 **kwargs: object) -> None:
+        super().__init__(name, namespace=namespace if namespace is not None else name, **kwargs)
+        self._defaults = defaults or (CostmapParams.local_defaults() if name == "local_costmap"
+                                      else CostmapParams())
+        self._parent_ns = parent_namespace.rstrip("/")
+        self._lock = threading.Lock()
+        self._group = MutuallyExclusiveCallbackGroup()
+        self.params = self._defaults
+        self.costmap: LayeredCostmap | None = None
+        self.frames: Frames | None = None
+        self._pending_scans: deque[tuple[LaserScanMsg, float]] = deque(maxlen=50)
+        self._updated = threading.Event()
+        self._entities: list[object] = []
+        self._layer_timers: list[object] = []
+
+    # -- lifecycle ---------------------------------------------------------------------------------
+    def configure(self) -> None:
+        self.params = declare_costmap_params(self, self._defaults)
+        self.costmap = LayeredCostmap(self.params, build_layers(self, self.params))
+        self.frames = Frames(self, self.params.robot_base_frame)
+        self._pub_grid = self.create_publisher(OccupancyGrid, "costmap", LATCHED)
+        self._pub_raw = self.create_publisher(Costmap, "costmap_raw", LATCHED)
+        self._pub_footprint = self.create_publisher(PolygonStamped, "published_footprint", LATCHED)
+        self._entities = [self._pub_grid, self._pub_raw, self._pub_footprint]
+        for layer in self.costmap.layers:
+            if isinstance(layer, StaticLayer):
+                qos = LATCHED if layer.params.map_subscribe_transient_local else DEFAULT
+                self._entities.append(self.create_subscription(
+                    OccupancyGrid, self._topic(layer.params.map_topic), self._on_map, qos,
+                    callback_group=self._group))
+            elif isinstance(layer, ObstacleLayer):
+                depth50 = QoSProfile(depth=50, reliability=SENSOR.reliability, durability=SENSOR.durability)
+                self._entities.append(self.create_subscription(
+                    LaserScanMsg, self._topic(layer.params.topic), self._on_scan, depth50,
+                    callback_group=self._group))
+        name = self.get_name()
+        self._entities += [
+            self.create_service(ClearEntireCostmap, f"clear_entirely_{name}", self._on_clear,
+                                callback_group=self._group),
+            self.create_service(GetCostmap, "get_costmap", self._on_get_costmap, callback_group=self._group),
+        ]
+
+    def activate(self) -> None:
+        p = self.params
+        self._layer_timers = [
+            self.create_timer(1.0 / p.update_frequency, self._update, callback_group=self._group),
+            self.create_timer(1.0 / p.publish_frequency, self._publish, callback_group=self._group),
+        ]
+
+    def deactivate(self) -> None:
+        for timer in self._layer_timers:
+            self.destroy_timer(timer)  # type: ignore[arg-type]
+        self._layer_timers = []
+
+    def cleanup(self) -> None:
+        self.deactivate()
+        for entity in self._entities:
+            for destroy in (self.destroy_publisher, self.destroy_subscription, self.destroy_service):
+                if destroy(entity):  # type: ignore[arg-type]
+                    break
+        self._entities = []
+        if self.frames is not None:
+            self.frames.destroy()
+        self.frames, self.costmap = None, None
+
+    # -- what owners use -------------------------------------------------------------------------
+    @property
+    def global_frame(self) -> str:
+        return self.params.global_frame
+
+    def snapshot(self) -> tuple[np.ndarray, GridSpec] | None:
+        """A copy of the current costs and their grid, or None before the first update."""
+        with self._lock:
+            if self.costmap is None or not self.costmap.is_sized or not self._updated.is_set():
+                return None
+            return self.costmap.costs.copy(), self.costmap.spec
+
+    def wait_until_ready(self, timeout: float) -> bool:
+        """Block (wall clock) until the costmap has been updated once; False on timeout."""
+        return self._updated.wait(timeout)
+
+    # -- callbacks --------------------------------------------------------------------------------
+    def _topic(self, name: str) -> str:
+        return name if name.startswith("/") else f"{self._parent_ns}/{name}"
+
+    def _on_map(self, msg: OccupancyGrid) -> None:
+        data, spec = grid_from_occupancy(msg)
+        with self._lock:
+            assert self.costmap is not None
+            self.costmap.set_map(data, spec)
+        self.get_logger().info(f"received a {spec.width} x {spec.height} map at {spec.resolution} m/cell")
+
+    def _on_scan(self, msg: LaserScanMsg) -> None:
+        self._pending_scans.append((msg, time.monotonic()))
+        self._add_scans()
+
+    def _add_scans(self) -> None:
+        """Give the obstacle layers every waiting scan whose sensor pose TF can now tell."""
+        assert self.frames is not None and self.costmap is not None
+        keep: deque[tuple[LaserScanMsg, float]] = deque(maxlen=50)
+        while self._pending_scans:
+            msg, received = self._pending_scans.popleft()
+            try:
+                tf = self.frames.listener.lookup(self.global_frame, msg.header.frame_id,
+                                                 stamp_to_seconds(msg.header.stamp))
+            except TransformError:
+                if time.monotonic() - received < self.params.transform_tolerance + SCAN_WAIT_SLACK:
+                    keep.append((msg, received))
+                continue
+            try:
+                scan = LaserScan(np.asarray(msg.ranges, dtype=np.float64), msg.angle_min, msg.angle_increment,
+                                 msg.range_min, msg.range_max)
+            except ValueError as error:
+                self.get_logger().warn(f"dropping a malformed scan: {error}", throttle_duration_sec=5.0)
+                continue
+            with self._lock:
+                for layer in self.costmap.layers:
+                    if isinstance(layer, ObstacleLayer):
+                        layer.add_scan(scan, (tf.x, tf.y, tf.yaw))
+        self._pending_scans = keep
+
+    def _update(self) -> None:
+        assert self.frames is not None and self.costmap is not None
+        self._add_scans()
+        try:
+            pose = self.frames.robot_pose(self.global_frame)
+        except FrameError as error:
+            self.get_logger().warn(f"costmap not updated: {error}", throttle_duration_sec=5.0)
+            return
+        with self._lock:
+            if not self.costmap.is_sized:
+                self.get_logger().info("waiting for the map", throttle_duration_sec=5.0)
+                return
+            self.costmap.update(pose)
+        self._updated.set()
+
+    def _publish(self) -> None:
+        snap = self.snapshot()
+        if snap is None or self.costmap is None or self.frames is None:
+            return
+        costs, spec = snap
+        stamp = self.get_clock().now().to_msg()
+        self._pub_grid.publish(occupancy_msg(occupancy_from_cost(costs), spec, self.global_frame, stamp))
+        self._pub_raw.publish(costmap_msg(costs, spec, self.global_frame, stamp))
+        try:
+            pose = self.frames.robot_pose(self.global_frame)
+        except FrameError:
+            return
+        footprint = PolygonStamped()
+        footprint.header.frame_id, footprint.header.stamp = self.global_frame, stamp
+        points = self.costmap.footprint.transformed(*pose)
+        footprint.polygon.points = [Point32(x=float(x), y=float(y), z=0.0) for x, y in points]
+        self._pub_footprint.publish(footprint)
+
+    def _on_clear(self, request: ClearEntireCostmap.Request, response: ClearEntireCostmap.Response
+                  ) -> ClearEntireCostmap.Response:
+        with self._lock:
+            if self.costmap is not None:
+                self.costmap.clear_entirely()
+        self._pending_scans.clear()
+        self._update()
+        self.get_logger().info("costmap cleared entirely")
+        return response
+
+    def _on_get_costmap(self, request: GetCostmap.Request, response: GetCostmap.Response
+                        ) -> GetCostmap.Response:
+        snap = self.snapshot()
+        if snap is not None:
+            response.map = costmap_msg(snap[0], snap[1], self.global_frame, self.get_clock().now().to_msg())
+        return response

@@ -1,0 +1,46 @@
+"""Run servers (and the costmap nodes they own) in one process: the ``main()`` of each server module.
+
+Servers block one executor thread per running action goal, so they are spun by a
+MultiThreadedExecutor with enough threads for every action plus timers and subscriptions.
+``--autostart`` configures and activates the nodes (normally a lifecycle manager does it).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Sequence
+
+EXECUTOR_THREADS = 12
+
+
+def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None = None) -> int:
+    """Build the nodes, optionally bring them up, spin until Ctrl-C; the exit code."""
+    import rclpy
+    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+    from rclpy.lifecycle import LifecycleNode
+
+    import nav_stack.ros  # noqa: F401 - sets the LOCALHOST discovery default
+
+    args = list(sys.argv if argv is None else argv)
+    autostart = "--autostart" in args
+    rclpy.init(args=[a for a in args if a != "--autostart"])
+    nodes: Sequence[object] = []
+    try:
+        nodes = build_nodes()
+        executor = MultiThreadedExecutor(num_threads=EXECUTOR_THREADS)
+        for node in nodes:
+            executor.add_node(node)  # type: ignore[arg-type]
+        if autostart:
+            server = nodes[0]
+            assert isinstance(server, LifecycleNode)
+            server.trigger_configure()
+            server.trigger_activate()
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        for node in nodes:
+            node.destroy_node()  # type: ignore[attr-defined]
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
