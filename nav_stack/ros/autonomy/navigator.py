@@ -1,0 +1,105 @@
+"""A NavigateToPose client for GoToPose that never blocks (rclpy futures and done-callbacks).
+
+The tree polls ``RosNavGoal.outcome()`` on each tick; the goal response and the result arrive on
+the executor and only set fields. A cancel asked for before the server accepted the goal is sent
+as soon as it is accepted, so a halted GoToPose never leaves a goal behind.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from action_msgs.msg import GoalStatus
+from nav2_msgs.action import NavigateToPose
+from rclpy.action import ActionClient
+from rclpy.node import Node
+
+from nav_stack.ros.autonomy.locations import Location
+from nav_stack.ros.autonomy.seed_nodes import NavOutcome
+from nav_stack.ros.conversions import pose_stamped
+
+_STATUS = {
+    GoalStatus.STATUS_SUCCEEDED: NavOutcome.SUCCEEDED,
+    GoalStatus.STATUS_CANCELED: NavOutcome.CANCELED,
+    GoalStatus.STATUS_ABORTED: NavOutcome.ABORTED,
+}
+
+
+class RosNavGoal:
+    """One goal; fields are written by executor callbacks and read by the tree (under a lock)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._outcome: NavOutcome | None = None
+        self._detail = ""
+        self._handle: Any = None
+        self._cancel_requested = False
+
+    def outcome(self) -> NavOutcome | None:
+        with self._lock:
+            return self._outcome
+
+    def detail(self) -> str:
+        with self._lock:
+            return self._detail
+
+    def cancel(self) -> None:
+        with self._lock:
+            self._cancel_requested = True
+            handle = self._handle if self._outcome is None else None
+        if handle is not None:
+            handle.cancel_goal_async()
+
+    def _finish(self, outcome: NavOutcome, detail: str = "") -> None:
+        with self._lock:
+            if self._outcome is None:
+                self._outcome, self._detail = outcome, detail
+
+    def _on_goal_response(self, future: Any) -> None:
+        handle = future.result()
+        if handle is None or not handle.accepted:
+            self._finish(NavOutcome.REJECTED, "goal rejected by the server")
+            return
+        with self._lock:
+            self._handle = handle
+            cancel = self._cancel_requested
+        handle.get_result_async().add_done_callback(self._on_result)
+        if cancel:
+            handle.cancel_goal_async()
+
+    def _on_result(self, future: Any) -> None:
+        response = future.result()
+        if response is None:
+            self._finish(NavOutcome.ABORTED, "no result")
+            return
+        result = response.result
+        code = int(getattr(result, "error_code", 0) or 0)
+        message = str(getattr(result, "error_msg", "") or "")
+        detail = f"error_code {code}: {message}" if code or message else ""
+        self._finish(_STATUS.get(response.status, NavOutcome.ABORTED), detail)
+
+
+class RosNavigator:
+    """NavigateToPose client on ``action_name``; goals in ``frame`` stamped with the node clock."""
+
+    def __init__(self, node: Node, action_name: str = "navigate_to_pose", frame: str = "map",
+                 callback_group: Any = None) -> None:
+        self.node = node
+        self.action_name = action_name
+        self.frame = frame
+        self._client = ActionClient(node, NavigateToPose, action_name, callback_group=callback_group)
+
+    def server_ready(self) -> bool:
+        return bool(self._client.server_is_ready())
+
+    def send(self, location: Location) -> RosNavGoal:
+        goal = RosNavGoal()
+        stamp = self.node.get_clock().now().to_msg()
+        pose = pose_stamped(location.x, location.y, location.theta, self.frame, stamp)
+        request = NavigateToPose.Goal(pose=pose)
+        self._client.send_goal_async(request).add_done_callback(goal._on_goal_response)
+        return goal
+
+    def destroy(self) -> None:
+        self._client.destroy()

@@ -1,0 +1,73 @@
+"""``SmBatteryPatrol``: the seed's battery-aware patrol as a hierarchical machine, and its parameters."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from smacc_py.core import SmaccStateMachineBase
+from smacc_py.ros.context import ros_context
+from smacc_py.ros.params import declare_dataclass_params
+from smacc_py.state_machines.sm_battery_patrol import states as st
+from smacc_py.state_machines.sm_battery_patrol.orthogonals import OrBattery, OrNavigation, OrTimer
+
+Pose = tuple[float, float, float]
+LOCATION_NAMES = ("location1", "location2", "location3", "location4", "station")
+
+
+@dataclass(frozen=True)
+class SmBatteryPatrolParams:
+    """ROS parameters of node ``SmBatteryPatrol`` (x, y in m, yaw in rad, map frame; charge 0..1; s).
+
+    Attributes:
+        initial_pose: AMCL's initial pose (the TurtleBot3 spawn pose).
+        location1 .. location4, station: the seed project's locations (config/locations.yaml has the
+            reachability figures).
+        battery_topic: sensor_msgs/BatteryState topic (sim2d publishes /battery_state).
+        low_threshold: a reading at or below it leaves the patrol for MsRecharge.
+        charged_threshold: a reading at or above it, while parked, resumes the patrol.
+        charge_timeout: sim s of charging without reaching the threshold before re-docking.
+    """
+
+    initial_pose: Pose = (-2.0, -0.5, 0.0)
+    location1: Pose = (-1.03, -0.51, 0.0)
+    location2: Pose = (-0.56, -1.03, 0.0)
+    location3: Pose = (-1.43, -1.34, 3.14)
+    location4: Pose = (-1.58, -1.48, 3.14)
+    station: Pose = (-1.37, -0.82, 0.0)
+    battery_topic: str = "/battery_state"
+    low_threshold: float = 0.2
+    charged_threshold: float = 0.95
+    charge_timeout: float = 180.0
+
+    def __post_init__(self) -> None:
+        for name in ("initial_pose", *LOCATION_NAMES):
+            value = getattr(self, name)
+            if len(value) != 3 or not all(math.isfinite(v) for v in value):
+                raise ValueError(f"SmBatteryPatrolParams.{name} must be 3 finite numbers (x, y, yaw), "
+                                 f"got {value!r}")
+        if not 0.0 <= self.low_threshold < self.charged_threshold <= 1.0:
+            raise ValueError("SmBatteryPatrolParams: need 0 <= low_threshold < charged_threshold <= 1, got "
+                             f"{self.low_threshold} and {self.charged_threshold}")
+        if not self.charge_timeout > 0.0:
+            raise ValueError(f"SmBatteryPatrolParams.charge_timeout must be > 0 s, got {self.charge_timeout}")
+
+    def pose_of(self, location: str) -> Pose:
+        """The pose of ``location1``..``location4`` or ``station``."""
+        if location not in LOCATION_NAMES:
+            raise ValueError(f"unknown location {location!r}; known: {', '.join(LOCATION_NAMES)}")
+        pose: Pose = getattr(self, location)
+        return pose
+
+
+class SmBatteryPatrol(SmaccStateMachineBase):
+    """Patrol location1..4; recharge when low; resume where it left off (deep history)."""
+
+    initial_state = st.StStartup
+    config: SmBatteryPatrolParams
+
+    def on_initialize(self) -> None:
+        self.config = declare_dataclass_params(ros_context(self).node, SmBatteryPatrolParams)
+        self.create_orthogonal(OrNavigation)
+        self.create_orthogonal(OrBattery)
+        self.create_orthogonal(OrTimer)

@@ -1,0 +1,52 @@
+"""The battery patrol against the real stack (``nav-bringup``: sim2d + nav_stack).
+
+* autonomy_node runs the seed's tree.xml with the counter battery for two full cycles (four
+  locations, root FAILURE, station, wait, recharge, root SUCCESS, twice): the visited sequence is
+  the seed's;
+* sm_battery_patrol, driven by sim2d's simulated battery, does two rounds with recharges and resumes
+  the interrupted leg. To get recharges within two rounds without touching the simulator, the low
+  threshold sits just under a full charge (0.95) and charged at 0.99: sim2d drains 2 % per metre and
+  a round is about 3.5 m, and it charges 2 % per s while parked within 0.3 m of the station.
+
+Slow. Skipped until nav_stack.ros.bringup exists.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+
+from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, start_stack
+from tests.helpers.ros import REPO
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+
+RTF = 5.0
+SEED_TRACE = ["location1", "location2", "location3", "location4", "station", "wait", "recharge"] * 2
+
+
+def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
+    launcher = start_stack(RTF)
+    try:
+        set_initial_pose()
+        params = {"battery_source": "counter", "max_cycles": 4, "server_timeout": 60.0}
+        run = run_autonomy(params, timeout=900.0)
+    finally:
+        launcher.shutdown()  # type: ignore[attr-defined]
+    assert run.returncode == 0, run.output[-4000:]
+    assert [result for result, _ in run.cycles()] == ["FAILURE", "SUCCESS"] * 2, run.output[-4000:]
+    assert run.visited() == SEED_TRACE, run.output[-4000:]
+
+
+def test_sm_battery_patrol_does_two_rounds_on_the_simulated_battery() -> None:
+    cmd = [sys.executable, "-m", "smacc_py.state_machines.sm_battery_patrol.demo", "--rtf", f"{RTF:g}",
+           "--cycles", "2", "--low-threshold", "0.95", "--charged-threshold", "0.99", "--timeout", "900"]
+    result = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=1200)
+    out = result.stdout
+    assert result.returncode == 0, out[-4000:]
+    assert "[patrol] result: SUCCESS" in out
+    assert "[LOW_BATTERY]" in out and "[RESUME]" in out and "(history)" in out, out[-4000:]
