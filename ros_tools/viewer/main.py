@@ -1,0 +1,123 @@
+"""``navsuite-viewer``: serve the live viewer on loopback with one command.
+
+    navsuite-viewer [--host 127.0.0.1] [--port 8080] [--rate 10] [--frame map] [--sim-time auto]
+                    [--ros-args ...]
+
+Prints ``viewer: http://HOST:PORT/`` once serving (``--port 0`` picks a free port). Ctrl-C stops it.
+DDS stays on this machine unless the user chose ROS_AUTOMATIC_DISCOVERY_RANGE themselves.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from typing import Any
+
+from ros_tools.viewer.hub import LayerHub
+from ros_tools.viewer.params import SIM_TIME_MODES, ViewerParams
+
+
+class ViewerApp:
+    """The node (spun by its own executor thread) and the HTTP server (its own thread), started together.
+
+    ``context`` is an initialised rclpy Context (tests pass their own); ``close()`` stops both.
+    """
+
+    def __init__(self, params: ViewerParams, context: Any = None) -> None:
+        from rclpy.executors import SingleThreadedExecutor
+
+        from ros_tools.viewer.node import ViewerNode
+        from ros_tools.viewer.server import ViewerServer
+
+        self.hub = LayerHub()
+        self.node = ViewerNode(self.hub, params, context=context)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        try:
+            self.server = ViewerServer(params.host, params.port, self.hub, self.node, params.rate,
+                                       params.keepalive)
+        except OSError:
+            self.node.destroy_node()
+            raise
+        self._threads = [threading.Thread(target=self._spin, name="viewer-ros", daemon=True),
+                         threading.Thread(target=self.server.serve_forever, name="viewer-http", daemon=True)]
+
+    @property
+    def url(self) -> str:
+        return self.server.url
+
+    def _spin(self) -> None:
+        from rclpy.executors import ExternalShutdownException
+
+        with contextlib.suppress(ExternalShutdownException):  # Ctrl-C / SIGTERM: rclpy shut the context down
+            self.executor.spin()
+
+    def start(self) -> ViewerApp:
+        for thread in self._threads:
+            thread.start()
+        return self
+
+    def close(self) -> None:
+        self.server.close()
+        self.executor.shutdown(timeout_sec=5.0)
+        for thread in self._threads:
+            thread.join(timeout=5.0)
+        self.node.destroy_node()
+
+
+def parse_args(argv: Sequence[str]) -> tuple[ViewerParams, list[str]]:
+    """Split ``--ros-args ...`` off and turn the rest into ViewerParams (exit 2 on bad values)."""
+    argv = list(argv)
+    ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
+    own = argv[: len(argv) - len(ros_args)]
+    defaults = ViewerParams()
+    parser = argparse.ArgumentParser(prog="navsuite-viewer",
+                                     description="Live browser viewer of the ROS graph.")
+    parser.add_argument("--host", default=defaults.host, help="bind address (default: %(default)s, loopback)")
+    parser.add_argument("--port", type=int, default=defaults.port, help="TCP port; 0 picks a free one")
+    parser.add_argument("--rate", type=float, default=defaults.rate, help="max updates/s per browser (Hz)")
+    parser.add_argument("--frame", default=defaults.frame,
+                        help="display (fixed) frame (default: map)")
+    parser.add_argument("--sim-time", default=defaults.sim_time, choices=SIM_TIME_MODES,
+                        help="use /clock for stamps: auto = when a /clock publisher exists")
+    ns = parser.parse_args(own)
+    try:
+        params = ViewerParams(host=ns.host, port=ns.port, rate=ns.rate, frame=ns.frame, sim_time=ns.sim_time)
+    except ValueError as exc:
+        parser.error(str(exc))
+    return params, ros_args
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    params, ros_args = parse_args(sys.argv[1:] if argv is None else argv)
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    import rclpy
+
+    rclpy.init(args=["navsuite-viewer", *ros_args])
+    try:
+        try:
+            app = ViewerApp(params).start()
+        except OSError as exc:
+            print(f"navsuite-viewer: cannot serve on {params.host}:{params.port}: {exc}", file=sys.stderr)
+            return 1
+        print(f"viewer: {app.url}", flush=True)
+        try:
+            while rclpy.ok():  # rclpy's SIGINT/SIGTERM handlers shut the context down
+                time.sleep(0.2)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            app.close()
+    finally:
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
