@@ -17,7 +17,8 @@ setup:
 demo: setup
 	@$(VENV)/bin/navsuite-demo
 
-test: setup
+test:
+	@bash scripts/setup.sh --with-browser
 	@bash scripts/check.sh
 
 clean-interfaces-cache:

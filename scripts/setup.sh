@@ -11,6 +11,8 @@ cd "$(dirname "$0")/.."
 
 VENV=${VENV:-.venv}
 PYTHON=${PYTHON:-python3}
+WITH_BROWSER=0
+[ "${1:-}" = "--with-browser" ] && WITH_BROWSER=1
 
 missing=()
 need() {  # need <command> <debian package> <why>
@@ -60,3 +62,14 @@ if [ "$(cat "$deps_stamp" 2>/dev/null)" != "$deps_key" ]; then
 fi
 
 "$VENV/bin/python" scripts/build_interfaces.py --venv "$VENV"
+
+# The viewer's browser test drives the system's Chromium (never a downloaded browser).
+if [ "$WITH_BROWSER" = 1 ] && ! command -v chromium >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    echo "setup: installing Debian's chromium for the viewer's browser test"
+    apt-get update -qq >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    echo "setup: note: 'chromium' is not installed, so the viewer's browser test will be skipped" \
+         "(sudo apt-get install chromium)"
+  fi
+fi
