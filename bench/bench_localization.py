@@ -1,0 +1,72 @@
+"""Localization quality of the amcl node against sim2d ground truth on the scripted turtlebot3_world tour.
+
+Three runs (tests/helpers/nav_ros_loc_tour.py: sim2d with drifting odometry at real-time factor 4,
+map_server + amcl + lifecycle_manager_localization as child processes, ground-truth waypoint driver):
+  tracking  from the seed's initial pose (-2.0, -0.5, 0): RMS position / yaw error of every amcl_pose;
+  global    reinitialize_global_localization, no initial pose: distance driven until the error stays
+            below 0.25 m (-1 when it never does);
+  kidnap    a 2 m teleport with recovery_alpha_slow/fast 0.001/0.1: sim seconds until the error stays
+            below 0.25 m again (-1 when it never does).
+Odometry alphas are 0.05 (see tests/integration/nav_stack/test_amcl_sim.py); `--nav2-alphas` uses 0.2.
+
+Run: ``.venv/bin/python -m bench.bench_localization`` (``--no-record`` to only print).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+import rclpy
+from rclpy.context import Context
+
+from bench.harness import Benchmark
+from tests.helpers.nav_ros_loc_tour import TourResult, TourRun
+
+TUNED = {"alpha1": 0.05, "alpha2": 0.05, "alpha3": 0.05, "alpha4": 0.05}
+RECOVERY = {"recovery_alpha_slow": 0.001, "recovery_alpha_fast": 0.1}
+
+
+def _run(**kwargs: object) -> TourResult:
+    context = Context()
+    rclpy.init(context=context)
+    try:
+        with tempfile.TemporaryDirectory() as directory:
+            return TourRun(context, rtf=4.0, **kwargs).run(Path(directory))  # type: ignore[arg-type]
+    finally:
+        rclpy.try_shutdown(context=context)
+
+
+def main() -> None:
+    bench = Benchmark("localization")
+    alphas = {} if "--nav2-alphas" in sys.argv else TUNED
+    note = f"sim2d drift, rtf 4, alphas {'0.2' if not alphas else '0.05'}"
+
+    tracking = _run(amcl_params=alphas)
+    rms_xy, rms_yaw = tracking.rms_after(0)
+    poses = len(tracking.samples)
+    bench.record_value("tracking RMS position error", rms_xy, "m", note=f"{poses} poses, {note}")
+    bench.record_value("tracking RMS yaw error", rms_yaw, "rad", note=note)
+    worst = max(s.error_xy for s in tracking.samples)
+    bench.record_value("tracking max position error", worst, "m", note=note)
+
+    global_run = _run(amcl_params=alphas, global_localization=True)
+    start = global_run.converged_index()
+    distance = global_run.samples[start].distance if start is not None else -1.0
+    bench.record_value("global localization: distance to converge (< 0.25 m)", distance, "m",
+                       note=("-1 = not converged on the tour; " if start is None else "") + note)
+
+    kidnap = _run(amcl_params={**alphas, **RECOVERY}, kidnap=True)
+    after = kidnap.converged_index(after=kidnap.kidnap_time or 0.0)
+    recovery = kidnap.samples[after].t - (kidnap.kidnap_time or 0.0) if after is not None else -1.0
+    bench.record_value("kidnap (2 m teleport) recovery time", recovery, "sim s",
+                       note=("-1 = not recovered on the tour; " if after is None else "") + note)
+    bench.save()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,136 @@
+"""amcl_init_pose_publisher: the seed project's initial pose node, made reliable.
+
+Why: AMCL in Jazzy starts without a pose (set_initial_pose false), so someone must publish
+/initialpose. The seed's C++ node published once as soon as a subscriber existed; a message sent
+before AMCL has its map is applied late or lost. This node does what BasicNavigator.setInitialPose
+plus waitUntilNav2Active do: publish (frame ``map``) once AMCL listens, re-publish every
+``republish_period`` until /amcl_pose reports a pose within ``position_tolerance`` /
+``yaw_tolerance`` of the requested one, or until ``timeout`` runs out.
+
+Parameters: x (-2.0 m), y (-0.5 m), yaw (0.0 rad), covariance (0.25: the x, y and yaw variances),
+republish_period (1.0 s), timeout (60.0 s), position_tolerance (0.5 m), yaw_tolerance (0.5 rad),
+exit_when_done (True; False keeps the node idle). Times are wall-clock seconds.
+Exit code of main(): 0 when confirmed, 1 on timeout.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass
+
+import rclpy
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from rclpy.clock import Clock, ClockType
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+
+from nav_stack.core.geometry import angle_diff, yaw_or_nan
+from nav_stack.ros.conversions import pose_from_2d
+from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.qos import DEFAULT, LATCHED
+
+NODE_NAME = "amcl_init_pose_publisher"
+
+
+@dataclass(frozen=True)
+class InitialPoseParams:
+    x: float = -2.0
+    y: float = -0.5
+    yaw: float = 0.0
+    covariance: float = 0.25
+    republish_period: float = 1.0
+    timeout: float = 60.0
+    position_tolerance: float = 0.5
+    yaw_tolerance: float = 0.5
+    exit_when_done: bool = True
+
+    def __post_init__(self) -> None:
+        for name in ("x", "y", "yaw"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
+        for name in ("covariance", "republish_period", "timeout", "position_tolerance", "yaw_tolerance"):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+
+
+class InitialPosePublisher(Node):
+    """Publishes /initialpose until AMCL confirms it; ``done`` is None, True (confirmed) or False."""
+
+    def __init__(self, **kwargs: object) -> None:
+        super().__init__(NODE_NAME, **kwargs)  # type: ignore[arg-type]
+        self.params = declare_dataclass(self, InitialPoseParams)
+        self.done: bool | None = None
+        self.published = 0
+        self._started = time.monotonic()
+        self._pub = self.create_publisher(PoseWithCovarianceStamped, "initialpose", DEFAULT)
+        self.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self._on_amcl_pose, LATCHED)
+        self._last_publish = -math.inf
+        self._timer = self.create_timer(0.1, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    def _message(self) -> PoseWithCovarianceStamped:
+        p = self.params
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = "map"
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.pose.pose = pose_from_2d(p.x, p.y, p.yaw)
+        covariance = [0.0] * 36
+        covariance[0] = covariance[7] = covariance[35] = p.covariance
+        msg.pose.covariance = covariance
+        return msg
+
+    def _tick(self) -> None:
+        if self.done is not None:
+            return
+        now = time.monotonic()
+        if now - self._started > self.params.timeout:
+            self.get_logger().error(f"AMCL did not confirm the initial pose within "
+                                    f"{self.params.timeout:.1f} s ({self.published} publications)")
+            self._finish(False)
+            return
+        if self._pub.get_subscription_count() == 0 or now - self._last_publish < self.params.republish_period:
+            return
+        self._pub.publish(self._message())
+        self._last_publish = now
+        self.published += 1
+        p = self.params
+        self.get_logger().info(f"Published initial pose ({p.x:.2f}, {p.y:.2f}, {p.yaw:.2f}) on /initialpose")
+
+    def _on_amcl_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        if self.done is not None or self.published == 0:
+            return  # a latched pose from before our request says nothing about it
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        distance = math.hypot(p.x - self.params.x, p.y - self.params.y)
+        yaw_error = abs(angle_diff(yaw_or_nan(q.x, q.y, q.z, q.w), self.params.yaw))
+        if distance <= self.params.position_tolerance and yaw_error <= self.params.yaw_tolerance:
+            self.get_logger().info(f"AMCL confirmed the initial pose "
+                                   f"({distance:.3f} m, {yaw_error:.3f} rad off)")
+            self._finish(True)
+
+    def _finish(self, confirmed: bool) -> None:
+        self.done = confirmed
+        self.destroy_timer(self._timer)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run until AMCL confirms the pose (or the timeout); with exit_when_done false, stay idle."""
+    rclpy.init(args=sys.argv if argv is None else argv)
+    node = InitialPosePublisher()
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        while rclpy.ok() and (node.done is None or not node.params.exit_when_done):
+            executor.spin_once(timeout_sec=0.1)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        confirmed = bool(node.done)
+        executor.shutdown()
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0 if confirmed else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,36 @@
+"""Helpers for the localization-side nav_stack integration tests (map_server, amcl, managers, saver)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from rclpy.client import Client
+from rclpy.executors import Executor
+
+from tests.helpers.ros import REPO, spin_until
+
+MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
+
+
+def call(executor: Executor, client: Client, request: Any, timeout: float = 10.0) -> Any:
+    """Call a service from a test, spinning ``executor`` until the answer arrives (bounded waits)."""
+    spin_until(executor, client.service_is_ready, timeout, f"service {client.srv_name}")
+    future = client.call_async(request)
+    spin_until(executor, future.done, timeout, f"answer of {client.srv_name}")
+    return future.result()
+
+
+def write_map_yaml(path: Path, **fields: object) -> Path:
+    """A map yaml with the turtlebot3_world image and the given fields replaced (None removes one)."""
+    import yaml
+
+    doc: dict[str, object] = yaml.safe_load(MAP_YAML.read_text())
+    doc["image"] = str(MAP_YAML.parent / str(doc["image"]))
+    for key, value in fields.items():
+        if value is None:
+            doc.pop(key, None)
+        else:
+            doc[key] = value
+    path.write_text(yaml.safe_dump(doc))
+    return path

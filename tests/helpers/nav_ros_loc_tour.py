@@ -1,0 +1,215 @@
+"""A scripted tour of turtlebot3_world in sim2d with the amcl node, scored against ground truth.
+
+Shared by tests/integration/nav_stack/test_amcl_sim.py and bench/bench_localization.py. sim2d runs as
+a child process (default drifting odometry), and so do map_server, amcl and
+lifecycle_manager_localization (autostart), started from a Nav2-style parameter file exactly as a
+deployment would; only the driver runs in this process. (With every node in one Python process the
+/clock and /tf traffic at a real-time factor of 4 backlogs the executor by seconds.) The robot is
+driven through TOUR by a small go-to-waypoint law on sim2d's ground truth (turn in place, then drive
+with heading correction): the driver is test scaffolding, not the thing under test, and closing the
+loop on ground truth keeps the robot in the free corridors whatever the timing jitter of a loaded
+machine. Every amcl_pose is compared with the ground truth at its stamp.
+
+The tour (map frame, m) runs between the pillar rows and columns (pillars r = 0.15 m at
+x, y ∈ {-1.1, 0, 1.1}), never closer than 0.35 m to an obstacle edge: about 12 m in 70 s of sim time.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, Twist
+from nav_msgs.msg import Odometry
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from std_msgs.msg import UInt32
+from std_srvs.srv import Empty, Trigger
+
+from nav_stack.ros.conversions import pose_from_2d
+from nav_stack.ros.qos import LATCHED
+from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
+from tests.helpers.ros import spin_until, start_python, stop_process
+
+START = (-2.0, -0.5, 0.0)
+TOUR = [(-1.65, -0.55), (1.65, -0.55), (1.65, 0.55), (0.55, 0.55), (0.55, 1.65), (-0.55, 1.65),
+        (-0.55, -1.65)]
+KIDNAP_AFTER = 1  # teleport when waypoint TOUR[1] is reached ...
+KIDNAP_TO = (1.65, 1.45, -math.pi / 2)  # ... 2.0 m north of it, facing the next waypoint
+CONVERGED = 0.25  # m: position error below which (for good) localization counts as converged
+MAX_V, MAX_W = 0.22, 1.0  # m/s, rad/s
+
+
+@dataclass
+class Sample:
+    """One amcl_pose compared with the ground truth at its stamp."""
+
+    t: float  # sim s
+    distance: float  # m driven (ground truth) when it was taken
+    error_xy: float  # m
+    error_yaw: float  # rad
+
+
+@dataclass
+class TourResult:
+    samples: list[Sample] = field(default_factory=list)
+    collisions: int = 0
+    kidnap_time: float | None = None
+    finished: bool = False
+    log: str = ""
+
+    def converged_index(self, after: float = -math.inf, until: float = math.inf) -> int | None:
+        """First sample in (after, until) from which every error up to ``until`` stays below CONVERGED."""
+        index = None
+        for i, s in enumerate(self.samples):
+            if s.t <= after or s.t >= until:
+                continue
+            if s.error_xy >= CONVERGED:
+                index = None
+            elif index is None:
+                index = i
+        return index
+
+    def rms_after(self, index: int, until: float = math.inf) -> tuple[float, float]:
+        """RMS position (m) and yaw (rad) errors over samples[index:] taken before ``until``."""
+        chosen = [s for s in self.samples[index:] if s.t < until]
+        xy = math.sqrt(float(np.mean([s.error_xy**2 for s in chosen])))
+        yaw = math.sqrt(float(np.mean([s.error_yaw**2 for s in chosen])))
+        return xy, yaw
+
+
+class TourRun:
+    """sim2d + map_server + amcl + a ground-truth driver; ``run()`` returns the scored TourResult."""
+
+    def __init__(self, context: Any, *, rtf: float = 4.0, seed: int = 0, global_localization: bool = False,
+                 kidnap: bool = False, amcl_params: dict[str, Any] | None = None,
+                 sim_args: tuple[str, ...] = ()) -> None:
+        self.context, self.rtf, self.seed, self.sim_args = context, rtf, seed, sim_args
+        self.global_localization, self.kidnap = global_localization, kidnap
+        self.amcl_params: dict[str, Any] = dict(amcl_params or {})
+        if not global_localization:  # the seed's initial pose, through Nav2's nested parameters
+            self.amcl_params.update({"set_initial_pose": True, "initial_pose": {
+                "x": START[0], "y": START[1], "yaw": START[2]}})
+        self.result = TourResult()
+        self._truth: list[tuple[float, float, float, float, float]] = []  # t, x, y, yaw, distance
+        self._waypoint = 0
+        self._done = False
+
+    # -- callbacks -------------------------------------------------------------------------------
+    def _on_truth(self, msg: Odometry) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        yaw = 2.0 * math.atan2(q.z, q.w)
+        distance = 0.0
+        if self._truth:
+            _, x0, y0, _, d0 = self._truth[-1]
+            step = math.hypot(p.x - x0, p.y - y0)
+            distance = d0 + (step if step < 0.3 else 0.0)  # a teleport is not driving
+        if self._truth and t < self._truth[-1][0]:
+            return
+        self._truth.append((t, p.x, p.y, yaw, distance))
+        self._drive(p.x, p.y, yaw)
+
+    def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        stamps = [s[0] for s in self._truth]
+        i = bisect.bisect_left(stamps, t)
+        near = [j for j in (i - 1, i) if 0 <= j < len(stamps)]
+        if not near:
+            return
+        j = min(near, key=lambda k: abs(stamps[k] - t))
+        if abs(stamps[j] - t) > 0.05:
+            return  # no ground truth at that time (e.g. a pose stamped before the first odometry)
+        _, x, y, yaw, distance = self._truth[j]
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        est_yaw = 2.0 * math.atan2(q.z, q.w)
+        error_yaw = abs(math.atan2(math.sin(est_yaw - yaw), math.cos(est_yaw - yaw)))
+        self.result.samples.append(Sample(t, distance, math.hypot(p.x - x, p.y - y), error_yaw))
+
+    def _drive(self, x: float, y: float, yaw: float) -> None:
+        cmd = Twist()
+        if self._waypoint >= len(TOUR):
+            self._done = True
+        else:
+            gx, gy = TOUR[self._waypoint]
+            dist = math.hypot(gx - x, gy - y)
+            if dist < 0.05:
+                if self.kidnap and self._waypoint == KIDNAP_AFTER and self.result.kidnap_time is None:
+                    self._teleport()
+                self._waypoint += 1
+            else:
+                heading = math.atan2(gy - y, gx - x) - yaw
+                heading = math.atan2(math.sin(heading), math.cos(heading))
+                cmd.angular.z = max(-MAX_W, min(MAX_W, 2.0 * heading))
+                if abs(heading) < 0.15:
+                    cmd.linear.x = min(MAX_V, 0.8 * dist + 0.03)
+        self.cmd_pub.publish(cmd)
+
+    def _teleport(self) -> None:
+        msg = PoseStamped()
+        msg.header.frame_id = "map"
+        msg.pose = pose_from_2d(*KIDNAP_TO)
+        self.teleport_pub.publish(msg)
+        self.result.kidnap_time = self._truth[-1][0]
+
+    # -- run ---------------------------------------------------------------------------------------
+    def _params_file(self, directory: Path) -> Path:
+        path = directory / "localization_params.yaml"
+        doc = {
+            "map_server": {"ros__parameters": {"yaml_filename": str(MAP_YAML)}},
+            "amcl": {"ros__parameters": {"use_sim_time": True, **self.amcl_params}},
+            "lifecycle_manager_localization": {"ros__parameters": {
+                "node_names": ["map_server", "amcl"], "autostart": True}},
+        }
+        path.write_text(yaml.safe_dump(doc))
+        return path
+
+    def run(self, directory: Path, timeout: float = 240.0) -> TourResult:
+        """Drive the tour; sim2d, map_server, amcl and their lifecycle manager run as child processes."""
+        params = str(self._params_file(directory))
+        procs = {
+            "sim2d": start_python("sim2d.ros.cli", [
+                "--world", "turtlebot3_world", "--robot", "waffle", "--rtf", str(self.rtf), "--seed",
+                str(self.seed), "--x", str(START[0]), "--y", str(START[1]), "--yaw", str(START[2]),
+                *self.sim_args]),
+            "map_server": start_python("nav_stack.ros.map_server", ["--ros-args", "--params-file", params]),
+            "amcl": start_python("nav_stack.ros.amcl_node", ["--ros-args", "--params-file", params]),
+            "manager": start_python("nav_stack.ros.lifecycle_manager", [
+                "--ros-args", "-r", "__node:=lifecycle_manager_localization", "--params-file", params]),
+        }
+        probe = Node("tour_driver", context=self.context)
+        executor = SingleThreadedExecutor(context=self.context)
+        executor.add_node(probe)
+        self.cmd_pub = probe.create_publisher(Twist, "/cmd_vel", 10)
+        self.teleport_pub = probe.create_publisher(PoseStamped, "/sim2d/teleport", 10)
+        probe.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self._on_pose, LATCHED)
+        counts: list[int] = []
+        probe.create_subscription(UInt32, "/sim2d/collision_count", lambda m: counts.append(m.data), LATCHED)
+
+        def crashed() -> bool:
+            return any(proc.poll() is not None for proc in procs.values())
+
+        try:
+            is_active = probe.create_client(Trigger, "/lifecycle_manager_localization/is_active")
+            spin_until(executor, lambda: crashed() or call(executor, is_active, Trigger.Request()).success,
+                       60.0, "lifecycle_manager_localization to report active", step=0.2)
+            assert not crashed(), "a child process exited during startup"
+            if self.global_localization:
+                reinitialize = probe.create_client(Empty, "/reinitialize_global_localization")
+                call(executor, reinitialize, Empty.Request())
+            probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
+            spin_until(executor, lambda: self._done or crashed(), timeout, "the end of the tour")
+            self.cmd_pub.publish(Twist())
+            spin_until(executor, lambda: bool(counts), 10.0, "sim2d/collision_count")
+            self.result.collisions = counts[-1]
+            self.result.finished = self._done
+        finally:
+            executor.shutdown()
+            probe.destroy_node()
+            self.result.log = "".join(f"--- {name}\n{stop_process(proc)}" for name, proc in procs.items())
+        return self.result

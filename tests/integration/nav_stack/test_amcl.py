@@ -1,0 +1,148 @@
+"""amcl node against a fake parked robot: initial pose checks, map→odom, warnings, global localization."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("nav2_msgs.srv")
+
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.srv import SetInitialPose
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.lifecycle import TransitionCallbackReturn
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from std_srvs.srv import Empty
+
+from nav_stack.ros.amcl_node import NO_POSE_WARNING, AmclNode
+from nav_stack.ros.conversions import pose_from_2d
+from nav_stack.ros.qos import DEFAULT, LATCHED
+from ros_tools.tf.ros import TransformListener
+from tests.helpers.nav_ros_loc_fakes import FakeRobot
+from tests.helpers.nav_ros_loc_nodes import call
+from tests.helpers.ros import spin_until
+
+pytestmark = pytest.mark.ros
+TRUE_POSE = (-2.0, -0.5, 0.0)
+
+
+class Graph:
+    def __init__(self, context: Any, overrides: list[Parameter]) -> None:
+        self.amcl = AmclNode(rng=np.random.default_rng(0), context=context, parameter_overrides=overrides)
+        self.probe = Node("amcl_probe", context=context)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.amcl)
+        self.executor.add_node(self.probe)
+        self.robot = FakeRobot(self.probe, TRUE_POSE)
+        self.poses: list[PoseWithCovarianceStamped] = []
+        self.probe.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self.poses.append, LATCHED)
+        self.initial = self.probe.create_publisher(PoseWithCovarianceStamped, "/initialpose", DEFAULT)
+        self.tf = TransformListener(self.probe)
+        assert self.amcl.trigger_configure() == TransitionCallbackReturn.SUCCESS
+        assert self.amcl.trigger_activate() == TransitionCallbackReturn.SUCCESS
+        self.robot.publish_map()
+        spin_until(self.executor, lambda: self.amcl.amcl is not None, 10.0, "AMCL to receive the map")
+
+    def spin_until(self, predicate: Any, what: str, timeout: float = 15.0) -> None:
+        spin_until(self.executor, predicate, timeout, what)
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.amcl.destroy_node()
+        self.probe.destroy_node()
+
+
+@pytest.fixture
+def overrides() -> list[Parameter]:
+    return []
+
+
+@pytest.fixture
+def graph(ros_context: Any, overrides: list[Parameter]) -> Iterator[Graph]:
+    g = Graph(ros_context, overrides)
+    try:
+        yield g
+    finally:
+        g.close()
+
+
+def _pose_msg(x: float, y: float, yaw: float, frame: str = "map") -> PoseWithCovarianceStamped:
+    msg = PoseWithCovarianceStamped()
+    msg.header.frame_id = frame
+    msg.pose.pose = pose_from_2d(x, y, 0.0)
+    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    cov = [0.0] * 36
+    cov[0] = cov[7] = 0.25
+    cov[35] = 0.068
+    msg.pose.covariance = cov
+    return msg
+
+
+class Log:
+    """Accumulates what the process wrote to stderr (rcutils logs) through pytest's capfd."""
+
+    def __init__(self, capfd: Any) -> None:
+        self.capfd = capfd
+        self.text = ""
+
+    def has(self, fragment: str) -> bool:
+        self.text += self.capfd.readouterr().err
+        return fragment in self.text
+
+
+def test_bad_initial_poses_are_rejected_and_a_good_one_localizes(graph: Graph, capfd: Any) -> None:
+    log = Log(capfd)
+    graph.initial.publish(_pose_msg(math.nan, -0.5, 0.0))
+    graph.spin_until(lambda: log.has("position (nan, -0.5) is not finite"), "the NaN rejection")
+    graph.initial.publish(_pose_msg(-2.0, -0.5, 0.0, frame="odom"))
+    graph.spin_until(lambda: log.has('initial poses must be in the global frame, "map"'),
+                     "the frame rejection")
+    graph.initial.publish(_pose_msg(40.0, -0.5, 0.0))
+    graph.spin_until(lambda: log.has("lies outside the map"), "the off-map rejection")
+    assert not graph.amcl.amcl.initialized and not graph.poses
+
+    request = SetInitialPose.Request(pose=_pose_msg(-1.8, -0.4, 0.1))  # a slightly wrong guess
+    call(graph.executor, graph.probe.create_client(SetInitialPose, "/set_initial_pose"), request)
+    graph.spin_until(lambda: bool(graph.poses), "amcl_pose after the initial pose")
+    # Standing still, only no-motion updates refine the estimate: ask for a few.
+    nomotion = graph.probe.create_client(Empty, "/request_nomotion_update")
+    for _ in range(6):
+        count = len(graph.poses)
+        call(graph.executor, nomotion, Empty.Request())
+        graph.spin_until(lambda c=count: len(graph.poses) > c, "a no-motion update")
+    pose = graph.poses[-1].pose.pose
+    assert math.hypot(pose.position.x - TRUE_POSE[0], pose.position.y - TRUE_POSE[1]) < 0.1
+    graph.spin_until(lambda: graph.tf.buffer.can_transform("map", "odom"), "map→odom on /tf")
+    map_odom = graph.tf.buffer.lookup("map", "odom")
+    assert math.hypot(map_odom.x, map_odom.y) < 0.1 and abs(map_odom.yaw) < 0.1  # odom = map here
+
+
+def test_no_initial_pose_warns_and_global_localization_spreads_particles(graph: Graph, capfd: Any) -> None:
+    log = Log(capfd)
+    graph.spin_until(lambda: log.has(NO_POSE_WARNING), "Nav2's 'set the initial pose' warning")
+    assert not graph.poses
+    reinitialize = graph.probe.create_client(Empty, "/reinitialize_global_localization")
+    call(graph.executor, reinitialize, Empty.Request())
+    filt = graph.amcl.amcl
+    particles = filt.particles
+    assert particles.shape[0] == filt.params.max_particles
+    spec = filt.spec
+    mx, my = spec.world_to_cell(particles[:, 0], particles[:, 1])
+    assert np.all(graph.robot.map.data[my, mx] == 0)  # free space only
+    assert particles[:, 0].std() > 1.0 and particles[:, 1].std() > 1.0 and particles[:, 2].std() > 1.5
+    graph.spin_until(lambda: bool(graph.poses), "amcl_pose after the first update of the spread filter")
+
+
+@pytest.mark.parametrize("overrides", [[Parameter("set_initial_pose", value=True),
+                                        Parameter("initial_pose.x", value=-2.0),
+                                        Parameter("initial_pose.y", value=-0.5)]])
+def test_initial_pose_from_nav2_nested_parameters(graph: Graph) -> None:
+    graph.spin_until(lambda: bool(graph.poses), "amcl_pose from the parameter initial pose")
+    first = graph.poses[0].pose.pose.position
+    assert (first.x, first.y) == pytest.approx((-2.0, -0.5), abs=0.1)
+    graph.spin_until(lambda: graph.tf.buffer.can_transform("map", "base_footprint"), "map→base_footprint")

@@ -1,0 +1,61 @@
+"""amcl_init_pose_publisher: publishes /initialpose until amcl confirms it, or gives up after its timeout."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("nav2_msgs.srv")
+
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.lifecycle import TransitionCallbackReturn
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+from nav_stack.ros.amcl_node import AmclNode
+from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+from tests.helpers.nav_ros_loc_fakes import FakeRobot
+from tests.helpers.ros import spin_until
+
+pytestmark = pytest.mark.ros
+
+
+def test_publishes_until_amcl_confirms_the_seed_pose(ros_context: Any) -> None:
+    amcl = AmclNode(rng=np.random.default_rng(1), context=ros_context)
+    probe = Node("init_probe", context=ros_context)
+    publisher = InitialPosePublisher(context=ros_context)  # seed defaults: (-2.0, -0.5, 0.0)
+    executor = SingleThreadedExecutor(context=ros_context)
+    for node in (amcl, probe, publisher):
+        executor.add_node(node)
+    try:
+        robot = FakeRobot(probe, (-2.0, -0.5, 0.0))
+        # AMCL is not listening yet: nothing may be published into the void.
+        spin_until(executor, lambda: robot.scans >= 3, 10.0, "a few fake scans")
+        assert publisher.published == 0 and publisher.done is None
+        assert amcl.trigger_configure() == TransitionCallbackReturn.SUCCESS
+        assert amcl.trigger_activate() == TransitionCallbackReturn.SUCCESS
+        robot.publish_map()
+        spin_until(executor, lambda: publisher.done is not None, 30.0, "the initial pose confirmation")
+        assert publisher.done is True and publisher.published >= 1
+        estimate = amcl.amcl.estimate()
+        assert math.hypot(estimate.x + 2.0, estimate.y + 0.5) < 0.3
+    finally:
+        executor.shutdown()
+        for node in (amcl, probe, publisher):
+            node.destroy_node()
+
+
+def test_gives_up_after_its_timeout_without_amcl(ros_context: Any) -> None:
+    overrides = [Parameter("timeout", value=0.5)]
+    publisher = InitialPosePublisher(context=ros_context, parameter_overrides=overrides)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(publisher)
+    try:
+        spin_until(executor, lambda: publisher.done is not None, 10.0, "the timeout")
+        assert publisher.done is False and publisher.published == 0
+    finally:
+        executor.shutdown()
+        publisher.destroy_node()
