@@ -113,7 +113,8 @@ def hash_package(name: str, package_dir: Path, include: dict[str, Path], work: P
     for kind, suffix in INTERFACE_KINDS.items():
         for source in sorted((package_dir / kind).glob(f"*{suffix}")):
             relative = source.relative_to(package_dir)
-            with contextlib.redirect_stdout(io.StringIO()):  # the adapter prints every file
+            chatter = io.StringIO()  # the adapter prints every file, and errors before raising them
+            with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
                 try:
                     convert_to_idl(package_dir, name, relative, idl_root)
                 except Exception as exc:

@@ -37,3 +37,6 @@ function(_navsuite_fix_wheel_include_dirs)
 endfunction()
 
 cmake_language(DEFER DIRECTORY "${CMAKE_SOURCE_DIR}" CALL _navsuite_fix_wheel_include_dirs)
+
+# The other pip-ROS workaround: let ament find the venv's typesupports without sourcing.
+include("${CMAKE_CURRENT_LIST_DIR}/ament_prefix_path.cmake")
