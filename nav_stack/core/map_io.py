@@ -232,18 +232,48 @@ def load_map(yaml_path: str | Path) -> OccupancyMap:
     return OccupancyMap(data, spec, meta.image)
 
 
+#: A yaml free_thresh below the occupancy of unknown pixels (1 − 205/255 = 0.1961) and above that of
+#: free ones (0.0039): the value of the TurtleBot3 maps, so a saved trinary map reloads exactly.
+UNKNOWN_SAFE_FREE_THRESH = 0.196
+
+
+def encode_pixels(
+    cells: npt.NDArray[np.int8], mode: MapMode, free_thresh: float, occupied_thresh: float
+) -> npt.NDArray[np.uint8]:
+    """Image (row 0 = top) of OccupancyGrid cells (row 0 = bottom; 0..100, −1 unknown), as map_saver does.
+
+    trinary: cell ≤ rint(100·free_thresh) → 254, cell ≥ rint(100·occupied_thresh) → 0, else 205.
+    scale:   known cell c → round(255·(100 − c)/100); unknown → 205 (a pgm has no alpha channel).
+    raw:     known cell c → c; unknown → 255 (reloads exactly with ``mode: raw``).
+    """
+    c = cells.astype(np.int16)[::-1]
+    known = (c >= 0) & (c <= 100)
+    if mode is MapMode.RAW:
+        return np.where(known, c, 255).astype(np.uint8)
+    if mode is MapMode.SCALE:
+        return np.where(known, np.round(255.0 * (100 - c) / 100.0), 205).astype(np.uint8)
+    pixels = np.full(c.shape, 205, dtype=np.uint8)
+    pixels[known & (c <= round(free_thresh * 100.0))] = 254
+    pixels[known & (c >= round(occupied_thresh * 100.0))] = 0
+    return pixels
+
+
 def save_map(
     occupancy: OccupancyMap,
     map_file_name: str | Path,
     *,
+    mode: MapMode = MapMode.TRINARY,
     free_thresh: float = 0.25,
     occupied_thresh: float = 0.65,
     overwrite: bool = False,
 ) -> tuple[Path, Path]:
-    """Write ``<name>.pgm`` (P5) and ``<name>.yaml`` in trinary mode, as nav2 map_saver does.
+    """Write ``<name>.pgm`` (P5) and ``<name>.yaml`` as nav2 map_saver does; return (yaml, pgm) paths.
 
-    Cells ≤ rint(100·free_thresh) → 254, ≥ rint(100·occupied_thresh) → 0, unknown or in between → 205.
-    Refuses (FileExistsError) to replace existing files unless ``overwrite``. Returns (yaml, pgm) paths.
+    The thresholds classify cells (see :func:`encode_pixels`). One deliberate difference from Nav2:
+    for trinary maps the yaml's free_thresh is min(free_thresh, UNKNOWN_SAFE_FREE_THRESH). Nav2 writes
+    the classification's 0.25, and map_server then reloads unknown pixels (occupancy 0.196) as free;
+    here free, unknown and occupied round-trip exactly. Refuses (FileExistsError naming the path) to
+    replace existing files unless ``overwrite``.
     """
     if not 0.0 <= free_thresh < occupied_thresh <= 1.0:
         raise ValueError(f"need 0 <= free_thresh < occupied_thresh <= 1, got free_thresh={free_thresh}, "
@@ -253,23 +283,23 @@ def save_map(
     if not overwrite:
         for existing in (pgm_path, yaml_path):
             if existing.exists():
-                raise FileExistsError(f"{existing} exists; pass overwrite=True to replace it")
-    cells = occupancy.data.astype(np.int16)[::-1]
-    pixels = np.full(cells.shape, 205, dtype=np.uint8)
-    known = (cells >= 0) & (cells <= 100)
-    pixels[known & (cells <= round(free_thresh * 100.0))] = 254
-    pixels[known & (cells >= round(occupied_thresh * 100.0))] = 0
+                raise FileExistsError(f"{existing} exists; refusing to overwrite it")
+    pixels = encode_pixels(occupancy.data, mode, free_thresh, occupied_thresh)
     spec = occupancy.spec
     header = f"P5\n# CREATOR: nav_stack map_io {spec.resolution:.3f} m/pix\n{spec.width} {spec.height}\n255\n"
+    pgm_path.parent.mkdir(parents=True, exist_ok=True)
     pgm_path.write_bytes(header.encode("ascii") + pixels.tobytes())
+    yaml_free = min(free_thresh, UNKNOWN_SAFE_FREE_THRESH) if mode is MapMode.TRINARY else free_thresh
+    # OccupancyGrid carries a float32 resolution: write its shortest decimal (0.05, not 0.0500000007).
+    resolution = float(str(np.float32(spec.resolution)))
     meta = {
         "image": pgm_path.name,
-        "mode": MapMode.TRINARY.value,
-        "resolution": float(spec.resolution),
+        "mode": mode.value,
+        "resolution": resolution,
         "origin": [float(spec.origin_x), float(spec.origin_y), float(spec.origin_yaw)],
         "negate": 0,
         "occupied_thresh": float(occupied_thresh),
-        "free_thresh": float(free_thresh),
+        "free_thresh": float(yaml_free),
     }
     yaml_path.write_text(yaml.safe_dump(meta, sort_keys=False, default_flow_style=None))
     return yaml_path, pgm_path

@@ -3,15 +3,9 @@
 Why: SLAM and exploration end with "save the map"; Nav2 users do it with the ``map_saver/save_map``
 service (nav2_msgs/srv/SaveMap) or ``map_saver_cli -f my_map``. Both are here, with Nav2's options.
 
-Pixel encoding (nav2 map_io saveMapToFile; cells 0..100, -1 unknown; image row 0 = top):
-  trinary  cell ≤ rint(100·free_thresh) → 254, cell ≥ rint(100·occupied_thresh) → 0, otherwise 205.
-  scale    known cell c → round(255·(100 − c)/100); unknown → 205 (a pgm has no alpha channel).
-  raw      known cell c → c; unknown → 255 (reloads exactly with ``mode: raw``).
-
-The yaml written for trinary differs from Nav2 on purpose: Nav2 writes the classification's
-free_thresh (0.25 by default), and map_server then reloads unknown pixels (205 → occupancy 0.196)
-as FREE. Here the yaml's free_thresh is min(free_thresh, UNKNOWN_SAFE_FREE_THRESH = 0.196), the value
-of the TB3 maps, so 254 (0.004) reloads free, 205 unknown and 0 occupied: the round trip is exact.
+The pixel encoding (trinary, scale, raw) and the file writing live in the core,
+:func:`nav_stack.core.map_io.save_map`, whose yaml keeps unknown cells unknown on reload (unlike
+Nav2's); this module adds the ROS surface, request validation and URL handling.
 
 Only pgm is written (png/bmp would need an image library); other formats are refused with an error
 naming the format. Existing files are never overwritten unless asked (service: never; CLI: --overwrite).
@@ -24,10 +18,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import rclpy
 import rclpy.context
-import yaml
 from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -37,6 +29,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.service import Service
 from rclpy.task import Future
 
+from nav_stack.core import map_io
 from nav_stack.core.map_io import MapMode, OccupancyMap
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.lifecycle import NavLifecycleNode
@@ -44,7 +37,6 @@ from nav_stack.ros.lifecycle_manager import wait_for
 from nav_stack.ros.params import declare_dataclass
 
 NODE_NAME = "map_saver"
-UNKNOWN_SAFE_FREE_THRESH = 0.196  # below 205's occupancy (1 − 205/255 = 0.1961), above 254's (0.0039)
 FORMATS = ("pgm",)
 
 
@@ -87,44 +79,17 @@ def map_paths(map_url: str) -> tuple[Path, Path]:
     return base.with_name(base.name + ".pgm"), base.with_name(base.name + ".yaml")
 
 
-def encode_pixels(cells: np.ndarray, mode: MapMode, free_thresh: float, occupied_thresh: float) -> np.ndarray:
-    """uint8 image (row 0 = top) of OccupancyGrid cells (row 0 = bottom), per the module docstring."""
-    c = cells.astype(np.int16)[::-1]
-    known = (c >= 0) & (c <= 100)
-    if mode is MapMode.RAW:
-        return np.where(known, c, 255).astype(np.uint8)
-    if mode is MapMode.SCALE:
-        return np.where(known, np.round(255.0 * (100 - c) / 100.0), 205).astype(np.uint8)
-    pixels = np.full(c.shape, 205, dtype=np.uint8)
-    pixels[known & (c <= round(free_thresh * 100.0))] = 254
-    pixels[known & (c >= round(occupied_thresh * 100.0))] = 0
-    return pixels
-
-
 def save_map(occupancy: OccupancyMap, request: SaveRequest, overwrite: bool = False) -> tuple[Path, Path]:
-    """Write the pgm and yaml; FileExistsError (naming the path) instead of replacing files."""
+    """Check the request and write the pgm and yaml with the core's writer; returns (pgm, yaml)."""
     request.check()
-    pgm_path, yaml_path = map_paths(request.map_url)
-    if not overwrite:
-        for path in (pgm_path, yaml_path):
-            if path.exists():
-                raise FileExistsError(f"{path} exists; refusing to overwrite it (use --overwrite)")
-    mode = MapMode(request.map_mode)
-    pixels = encode_pixels(occupancy.data, mode, request.free_thresh, request.occupied_thresh)
-    spec = occupancy.spec
-    header = (f"P5\n# CREATOR: nav_stack map_saver {spec.resolution:.3f} m/pix\n"
-              f"{spec.width} {spec.height}\n255\n")
-    pgm_path.parent.mkdir(parents=True, exist_ok=True)
-    pgm_path.write_bytes(header.encode("ascii") + pixels.tobytes())
-    free = request.free_thresh
-    if mode is MapMode.TRINARY:
-        free = min(free, UNKNOWN_SAFE_FREE_THRESH)
-    # OccupancyGrid carries float32 resolution: write its shortest decimal (0.05, not 0.0500000007).
-    resolution = float(str(np.float32(spec.resolution)))
-    meta = {"image": pgm_path.name, "mode": mode.value, "resolution": resolution,
-            "origin": [float(spec.origin_x), float(spec.origin_y), float(spec.origin_yaw)], "negate": 0,
-            "occupied_thresh": float(request.occupied_thresh), "free_thresh": float(free)}
-    yaml_path.write_text(yaml.safe_dump(meta, sort_keys=False, default_flow_style=None))
+    pgm_path, _ = map_paths(request.map_url)
+    try:
+        yaml_path, pgm_path = map_io.save_map(
+            occupancy, pgm_path.with_suffix(""), mode=MapMode(request.map_mode),
+            free_thresh=request.free_thresh, occupied_thresh=request.occupied_thresh, overwrite=overwrite,
+        )
+    except FileExistsError as error:
+        raise FileExistsError(f"{error} (use --overwrite)") from error
     return pgm_path, yaml_path
 
 

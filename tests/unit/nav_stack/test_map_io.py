@@ -159,7 +159,10 @@ def test_save_writes_trinary_pixels_and_yaml(tmp_path: Path) -> None:
     assert pixels.tolist() == [[254, 205, 0], [254, 0, 205]]
     text = yaml_path.read_text()
     assert "image: saved.pgm" in text and "mode: trinary" in text and "negate: 0" in text
-    assert "free_thresh: 0.25" in text and "occupied_thresh: 0.65" in text
+    # Classified with free 0.25, but the yaml says 0.196 so unknown pixels reload as unknown.
+    assert "free_thresh: 0.196" in text and "occupied_thresh: 0.65" in text
+    reloaded = load_map(yaml_path)
+    assert reloaded.data.tolist() == [[0, 100, -1], [0, 100, -1]]
 
 
 def test_save_then_load_round_trips_with_ros1_free_threshold(tmp_path: Path) -> None:
