@@ -162,7 +162,7 @@ def test_save_writes_trinary_pixels_and_yaml(tmp_path: Path) -> None:
     # Classified with free 0.25, but the yaml says 0.196 so unknown pixels reload as unknown.
     assert "free_thresh: 0.196" in text and "occupied_thresh: 0.65" in text
     reloaded = load_map(yaml_path)
-    assert reloaded.data.tolist() == [[0, 100, -1], [0, 100, -1]]
+    assert reloaded.data.tolist() == [[0, 100, -1], [0, -1, 100]]  # 20 → free, 30 → unknown, 70 → occ
 
 
 def test_save_then_load_round_trips_with_ros1_free_threshold(tmp_path: Path) -> None:
