@@ -1,0 +1,106 @@
+"""SLAM on the ROS graph: time per processed scan inside the slam node, and a whole exploration run.
+
+1. Node timing: the slam node in this process, fed by the fake robot of
+   tests/helpers/nav_ros_slam_fakes.py (analytic hexagon room, 360 beams), waiting for each scan's
+   slam/pose; the node records the wall time of every processed scan (``SlamNode.process_times``).
+2. Exploration: sim2d (RTF 3, drifting odometry) + the ``nav-bringup --slam`` processes + the Nav2
+   servers, and ``nav-explore -f`` from the seeds' spawn until complete (tests/helpers/nav_ros_slam_stack.py).
+   Recorded: occupied-cell IoU with the observable walls of maps/turtlebot3_world.yaml (one-cell
+   tolerance), SLAM pose error against ground truth (median and max), goals, duration (sim s, wall s).
+
+Run: ``.venv/bin/python -m bench.bench_slam_system`` (``--no-record`` to only print; ``--node-only``
+skips the exploration run).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+os.environ.setdefault("ROS_DOMAIN_ID", str(1 + os.getpid() % 100))
+
+import rclpy
+from rclpy.context import Context
+from rclpy.parameter import Parameter
+
+from bench.harness import Benchmark, Stats
+from nav_stack.ros.slam_bringup import slam_processes
+from nav_stack.ros.slam_node import SlamNode
+from tests.helpers.nav_ros_slam_fakes import START, FakeRobot, tour
+from tests.helpers.nav_ros_slam_stack import (
+    PARAMS_FILE,
+    Stack,
+    compare_with_reference,
+    explore,
+    nav_specs,
+    progress_numbers,
+    sim_spec,
+)
+from tests.helpers.nav_ros_world import Harness
+
+
+def node_timing(bench: Benchmark) -> None:
+    from tests.integration.nav_stack.test_slam_node import Probe, drive
+
+    context = Context()
+    rclpy.init(context=context)
+    harness = Harness(context, threads=4)
+    try:
+        slam = SlamNode(context=context, parameter_overrides=[Parameter("map_start_pose", value=list(START))])
+        robot, probe = FakeRobot(context=context), Probe(context=context)
+        harness.add(slam, robot, probe)
+        harness.bring_up(slam)
+        drive(robot, probe, tour(robot.world))
+        stats = Stats.of(slam.process_times)
+        bench.record("node: SLAM time per processed scan (360 beams, worker thread)", stats, "ms", 1e3,
+                     note=f"hexagon room tour, {stats.count} scans processed")
+    finally:
+        harness.close()
+        rclpy.shutdown(context=context)
+
+
+def exploration(bench: Benchmark) -> None:
+    from tests.system.test_slam_exploration import Probe
+
+    context = Context()
+    rclpy.init(context=context)
+    probe = Probe(context)
+    directory = Path(tempfile.mkdtemp(prefix="bench_slam_"))
+    stack = Stack([sim_spec(3.0), *slam_processes(PARAMS_FILE), *nav_specs()])
+    try:
+        started = time.monotonic()
+        done = explore(directory / "explored", max_time=900.0, timeout=1500.0)
+        wall = time.monotonic() - started
+        if done.returncode != 0:
+            print(done.stdout[-3000:], done.stderr[-3000:], stack.tail(), file=sys.stderr)
+            raise SystemExit(f"nav-explore failed with exit code {done.returncode}")
+        numbers = progress_numbers(done.stdout)
+        iou = compare_with_reference(directory / "explored.yaml")
+        errors = Stats.of(probe.errors)
+        note = (f"RTF 3, {numbers['goals']:.0f} goals ({numbers['failed']:.0f} failed), "
+                f"{numbers['mapped']:.1f} m2")
+        bench.record_value("exploration: occupied IoU vs observable reference walls (1-cell tol.)", iou, "",
+                           note=note)
+        bench.record("exploration: SLAM pose error vs ground truth", errors, "m", note=note)
+        bench.record_value("exploration: duration (sim)", numbers["sim_s"], "s", note=note)
+        bench.record_value("exploration: duration (wall)", wall, "s", note=note)
+    finally:
+        stack.close()
+        probe.close()
+        rclpy.shutdown(context=context)
+
+
+def main() -> None:
+    bench = Benchmark("slam_system")
+    node_timing(bench)
+    if "--node-only" not in sys.argv:
+        exploration(bench)
+    bench.save()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,152 @@
+"""nav-teleop: keyboard teleoperation, as turtlebot3_teleop's teleop_keyboard (used to drive SLAM runs).
+
+Keys (turtlebot3_teleop's):  w / x  linear velocity +/- 0.01 m/s,  a / d  angular velocity +/- 0.1 rad/s,
+s or space  stop,  q or Ctrl-C  quit. Targets are clamped to the model's limits (waffle 0.26 m/s,
+1.82 rad/s; burger 0.22 m/s, 2.84 rad/s). The current command is re-published every
+``--period`` (0.1 s) so the simulator's cmd_vel watchdog (0.5 s) never brakes a robot being driven.
+
+Interactive mode puts the terminal in raw mode (restored on exit). ``--keys wwwad`` replays keys
+instead, one per period, then publishes a stop and exits (for tests and scripts; it first waits up to
+SUBSCRIBER_WAIT for a cmd_vel subscriber, since messages sent before discovery are lost).
+``cmd_vel`` is Twist, or TwistStamped with ``-p enable_stamped_cmd_vel:=true`` (Nav2's name).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import select
+import sys
+import termios
+import time
+import tty
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+LINEAR_STEP = 0.01  # m/s per key press (turtlebot3_teleop LIN_VEL_STEP_SIZE)
+ANGULAR_STEP = 0.1  # rad/s per key press (ANG_VEL_STEP_SIZE)
+LIMITS = {"waffle": (0.26, 1.82), "waffle_pi": (0.26, 1.82), "burger": (0.22, 2.84)}  # m/s, rad/s
+QUIT_KEYS = ("q", "\x03")
+SUBSCRIBER_WAIT = 5.0  # wall s --keys waits for a cmd_vel subscriber before replaying
+HELP = """Control your TurtleBot3!
+---------------------------
+        w
+   a    s    d
+        x
+w/x : increase/decrease linear velocity  (+/- 0.01 m/s)
+a/d : increase/decrease angular velocity (+/- 0.1 rad/s)
+s, space : stop        q, Ctrl-C : quit"""
+
+
+@dataclass
+class TeleopState:
+    """Target velocities changed by keys, clamped to ``max_linear`` (m/s) and ``max_angular`` (rad/s)."""
+
+    max_linear: float
+    max_angular: float
+    linear: float = 0.0
+    angular: float = 0.0
+
+    def press(self, key: str) -> bool:
+        """Apply one key; False when the key means nothing (the command is unchanged)."""
+        if key == "w":
+            self.linear += LINEAR_STEP
+        elif key == "x":
+            self.linear -= LINEAR_STEP
+        elif key == "a":
+            self.angular += ANGULAR_STEP
+        elif key == "d":
+            self.angular -= ANGULAR_STEP
+        elif key in ("s", " "):
+            self.linear = self.angular = 0.0
+        else:
+            return False
+        # Round to the step grid so 30 presses give exactly 0.30 (float drift would show in the status).
+        self.linear = round(max(-self.max_linear, min(self.max_linear, self.linear)), 3)
+        self.angular = round(max(-self.max_angular, min(self.max_angular, self.angular)), 3)
+        return True
+
+
+@contextlib.contextmanager
+def raw_terminal() -> Iterator[None]:
+    """Single-key reads without echo; the terminal settings come back however the block ends."""
+    fd = sys.stdin.fileno()
+    saved = termios.tcgetattr(fd)
+    try:
+        tty.setraw(fd)
+        yield
+    finally:
+        termios.tcsetattr(fd, termios.TCSADRAIN, saved)
+
+
+def read_key(timeout: float) -> str:
+    """One key from stdin, or '' after ``timeout`` seconds."""
+    ready, _, _ = select.select([sys.stdin], [], [], timeout)
+    return sys.stdin.read(1) if ready else ""
+
+
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="nav-teleop", description=HELP,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--model", choices=sorted(LIMITS), default="waffle", help="speed limits of this TB3")
+    parser.add_argument("--keys", help="replay these keys (one per period), stop, and exit")
+    parser.add_argument("--period", type=float, default=0.1, help="publish period (s, wall clock)")
+    return parser.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``nav-teleop``; ROS arguments after ``--ros-args``."""
+    import rclpy
+    from rclpy.node import Node
+
+    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+    from nav_stack.ros.cmd_vel import CmdVelPublisher
+
+    args_in = list(sys.argv[1:] if argv is None else argv)
+    split = args_in.index("--ros-args") if "--ros-args" in args_in else len(args_in)
+    args = parse_args(args_in[:split])
+    if args.keys is not None and (bad := sorted(set(args.keys) - set("wxads "))):
+        print(f"nav-teleop: error: --keys: unknown keys {bad} (use w x a d s and space)", file=sys.stderr)
+        return 2
+    rclpy.init(args=["nav-teleop", *args_in[split:]])
+    node = Node("teleop_keyboard")
+    stamped = bool(node.declare_parameter("enable_stamped_cmd_vel", False).value)
+    cmd = CmdVelPublisher(node, stamped)
+    state = TeleopState(*LIMITS[args.model])
+    try:
+        if args.keys is not None:
+            deadline = time.monotonic() + SUBSCRIBER_WAIT
+            while cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
+                rclpy.spin_once(node, timeout_sec=args.period)  # a replay sent before discovery is lost
+            for key in args.keys:
+                state.press(key)
+                cmd.publish(state.linear, state.angular)
+                rclpy.spin_once(node, timeout_sec=args.period)
+        else:
+            _interactive(cmd, state, args.period)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        cmd.stop()
+        rclpy.spin_once(node, timeout_sec=args.period)  # let the stop leave before the node goes
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def _interactive(cmd: object, state: TeleopState, period: float) -> None:
+    print(HELP)
+    with raw_terminal():
+        while True:
+            key = read_key(period)
+            if key in QUIT_KEYS:
+                return
+            if state.press(key):
+                status = f"linear {state.linear:+.2f} m/s  angular {state.angular:+.2f} rad/s"
+                sys.stdout.write(f"\rcurrently: {status} ")
+                sys.stdout.flush()
+            cmd.publish(state.linear, state.angular)  # type: ignore[attr-defined]
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,134 @@
+"""The whole stack for SLAM system runs: sim2d, SLAM (or map_server + amcl), the Nav2 servers, nav-explore.
+
+Shared by tests/system/test_slam_exploration.py and bench/bench_slam_system.py. Processes start
+through ros_tools.launch.Launcher in nav-bringup's order. The stack is composed here from the
+server modules (each ``--autostart``) and nav_stack.ros.slam_bringup.slam_processes, the function
+``nav-bringup --slam`` uses; once nav-bringup exists the navigation half could come from it.
+Output lines are kept (``lines``) so a failing test can show them and a run can be parsed.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import subprocess
+import sys
+import threading
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from nav_stack.core.grid import GridSpec
+from nav_stack.core.map_io import load_map
+from ros_tools.launch import Launcher, ProcessSpec
+from tests.helpers.ros import REPO
+from tests.helpers.slam_world import dilate
+
+PARAMS_FILE = REPO / "config" / "nav2_params.yaml"
+REFERENCE_MAP = REPO / "maps" / "turtlebot3_world.yaml"
+START = (-2.0, -0.5, 0.0)
+NAV_SERVERS = ("planner_server", "controller_server", "behavior_server", "bt_navigator")
+
+
+def _py(module: str, *args: str) -> list[str]:
+    return [sys.executable, "-m", module, *args]
+
+
+def sim_spec(rtf: float, seed: int = 0) -> ProcessSpec:
+    return ProcessSpec("sim2d", _py("sim2d.ros.cli", "--world", "turtlebot3_world", "--robot", "waffle",
+                                    "--rtf", str(rtf), "--seed", str(seed), "--x", str(START[0]),
+                                    "--y", str(START[1]), "--yaw", str(START[2])),
+                       ready=r"sim2d: world")
+
+
+def nav_specs() -> list[ProcessSpec]:
+    """The navigation servers on sim time, each bringing itself up (lifecycle_manager_navigation's job)."""
+    ros = ["--ros-args", "--params-file", str(PARAMS_FILE), "-p", "use_sim_time:=true"]
+    return [ProcessSpec(name, _py(f"nav_stack.ros.{name}", "--autostart", *ros)) for name in NAV_SERVERS]
+
+
+def localization_specs(map_yaml: Path) -> list[ProcessSpec]:
+    """map_server with ``map_yaml`` and amcl initialised at the seeds' spawn, under their manager."""
+    ros = ["--ros-args", "--params-file", str(PARAMS_FILE), "-p", "use_sim_time:=true"]
+    manager = "lifecycle_manager_localization"
+    return [
+        ProcessSpec("map_server", _py("nav_stack.ros.map_server", *ros, "-p", f"yaml_filename:={map_yaml}")),
+        ProcessSpec("amcl", _py("nav_stack.ros.amcl_node", *ros, "-p", "set_initial_pose:=true",
+                                "-p", f"initial_pose.x:={START[0]}", "-p", f"initial_pose.y:={START[1]}",
+                                "-p", f"initial_pose.yaw:={START[2]}")),
+        ProcessSpec(manager, _py("nav_stack.ros.lifecycle_manager", *ros, "-r", f"__node:={manager}",
+                                 "-p", "node_names:=[map_server,amcl]", "-p", "autostart:=true"),
+                    ready=r"Managed nodes are active"),
+    ]
+
+
+class Stack:
+    """A running launch; ``close()`` in ``finally``. ``lines`` holds every output line so far."""
+
+    def __init__(self, specs: Sequence[ProcessSpec]) -> None:
+        self.lines: list[str] = []
+        self._lock = threading.Lock()
+        self.launcher = Launcher(output=self._keep, color=False)
+        self.launcher.start(specs)
+
+    def _keep(self, line: str) -> None:
+        with self._lock:
+            self.lines.append(line)
+
+    def alive(self) -> bool:
+        return all(r.proc.poll() is None for r in self.launcher.running)
+
+    def tail(self, n: int = 80) -> str:
+        with self._lock:
+            return "\n".join(self.lines[-n:])
+
+    def close(self) -> None:
+        self.launcher.shutdown()
+
+
+def explore(map_file: Path, max_time: float, timeout: float) -> subprocess.CompletedProcess[str]:
+    """Run ``nav-explore -f map_file`` to the end (its own process, the test's ROS environment)."""
+    return subprocess.run(_py("nav_stack.ros.explore", "-f", str(map_file), "--max-time", str(max_time)),
+                          cwd=REPO, capture_output=True, text=True, timeout=timeout)
+
+
+def progress_numbers(stdout: str) -> dict[str, float]:
+    """Goals, reached, failed, mapped m² and sim s from nav-explore's last progress line."""
+    line = [x for x in stdout.splitlines() if x.startswith("explore:") and "sim s" in x][-1]
+    goals, reached, failed = (int(v) for v in re.search(r"goals (\d+) \(reached (\d+), failed (\d+)\)",
+                                                       line).groups())
+    mapped = float(re.search(r"mapped ([\d.]+) m2", line).group(1))
+    elapsed = float(re.search(r"\| ([\d.]+) sim s", line).group(1))
+    return {"goals": goals, "reached": reached, "failed": failed, "mapped": mapped, "sim_s": elapsed}
+
+
+def observable_walls(reference: np.ndarray, spec: GridSpec, inside: tuple[float, float]) -> np.ndarray:
+    """Occupied reference cells a lidar inside the arena can see: those 8-adjacent to free space
+    connected to ``inside`` (the solid blocks' interiors and whatever lies behind the wall are not)."""
+    free = reference == 0
+    mx, my = (int(v) for v in spec.world_to_cell(*inside))
+    reach = np.zeros_like(free)
+    reach[my, mx] = True
+    while True:  # flood fill by repeated dilation (the map is 384², a few hundred passes at most)
+        grown = dilate(reach) & free
+        if (grown == reach).all():
+            break
+        reach = grown
+    return (reference >= 65) & dilate(reach)
+
+
+def compare_with_reference(map_yaml: Path) -> float:
+    """IoU (one-cell tolerance) of the map's occupied cells with the reference's observable walls."""
+    from tests.helpers.slam_world import iou_dilated, resample_to
+
+    ref = load_map(REFERENCE_MAP)
+    est = load_map(map_yaml)
+    truth = observable_walls(ref.data, ref.spec, START[:2])
+    estimate = resample_to(est.data >= 65, est.spec, ref.spec, False)
+    # Far outside the arena nothing is observable; an occupied estimate cell there is a plain error.
+    return iou_dilated(estimate, truth)
+
+
+def pose_error(truth: tuple[float, float], estimate: tuple[float, float]) -> float:
+    return math.hypot(truth[0] - estimate[0], truth[1] - estimate[1])

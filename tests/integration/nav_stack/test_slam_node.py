@@ -1,0 +1,133 @@
+"""The slam node in-process with a fake robot (analytic hexagon room): map, pose, TF, pause, save_map.
+
+The fake robot publishes TF and a scan per step on a fake timeline (tests/helpers/nav_ros_slam_fakes.py);
+each step waits for the node's ``slam/pose`` of that stamp, so no scan is dropped by the node's
+one-slot mailbox and the run is deterministic.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("nav2_msgs.srv")
+
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.srv import SaveMap
+from nav_msgs.msg import OccupancyGrid
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from std_srvs.srv import SetBool
+
+from nav_stack.core.map_io import load_map
+from nav_stack.ros.conversions import grid_from_occupancy
+from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.slam_node import SlamNode
+from tests.helpers.nav_ros_slam_fakes import START, TRUTH_SPEC, FakeRobot, tour
+from tests.helpers.nav_ros_world import Harness
+from tests.helpers.ros import wait_until
+from tests.helpers.slam_world import iou_dilated, resample_to
+
+pytestmark = pytest.mark.ros
+
+
+class Probe(Node):
+    """Collects slam/pose and /map; calls the node's services."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__("slam_probe", **kwargs)
+        self.poses: list[PoseWithCovarianceStamped] = []
+        self.maps: list[OccupancyGrid] = []
+        self.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self.poses.append, LATCHED)
+        self.create_subscription(OccupancyGrid, "/map", self.maps.append, LATCHED)
+        self.save = self.create_client(SaveMap, "/slam/save_map")
+        self.pause = self.create_client(SetBool, "/slam/pause_new_measurements")
+
+    def stamps(self) -> list[float]:
+        return [p.header.stamp.sec + p.header.stamp.nanosec * 1e-9 for p in self.poses]
+
+    def call(self, client: Any, request: Any) -> Any:
+        wait_until(client.service_is_ready, 10.0, f"service {client.srv_name}")
+        future = client.call_async(request)
+        wait_until(future.done, 30.0, f"response of {client.srv_name}")
+        return future.result()
+
+
+@pytest.fixture
+def rig(ros_context: Any) -> Any:
+    harness = Harness(ros_context, threads=4)
+    overrides = [Parameter("map_start_pose", value=list(START)), Parameter("map_update_interval", value=1.0)]
+    slam = SlamNode(context=ros_context, parameter_overrides=overrides)
+    robot, probe = FakeRobot(context=ros_context), Probe(context=ros_context)
+    try:
+        harness.add(slam, robot, probe)
+        harness.bring_up(slam)
+        yield slam, robot, probe
+    finally:
+        harness.close()
+
+
+def drive(robot: FakeRobot, probe: Probe, poses: list[Any]) -> None:
+    """Publish each pose and wait for the node's pose of that scan."""
+    for pose in poses:
+        t = robot.step(pose)
+        wait_until(lambda t=t: any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:]), 10.0,
+                   f"slam/pose of the scan at {t:.1f} s")
+
+
+def known_cells(msg: OccupancyGrid) -> int:
+    return int((grid_from_occupancy(msg)[0] >= 0).sum())
+
+
+def test_map_grows_matches_the_room_and_tracks_the_pose(rig: Any) -> None:
+    slam, robot, probe = rig
+    path = tour(robot.world)
+    drive(robot, probe, path)
+    wait_until(lambda: len(probe.maps) >= 3, 10.0, "three /map messages")
+    assert known_cells(probe.maps[0]) < known_cells(probe.maps[-1]), "the map did not grow"
+    data, spec = grid_from_occupancy(probe.maps[-1])
+    assert probe.maps[-1].header.frame_id == "map"
+    estimate = resample_to(data >= 65, spec, TRUTH_SPEC, False)
+    truth = robot.world.occupied_mask(TRUTH_SPEC)
+    iou = iou_dilated(estimate, truth)
+    assert iou >= 0.8, f"occupied IoU {iou:.3f}"
+    last = probe.poses[-1].pose.pose.position
+    error = math.hypot(last.x - path[-1].x, last.y - path[-1].y)
+    assert error <= 0.1, f"final pose error {error:.3f} m"
+    correction = slam.tf.lookup("map", "odom")
+    assert math.hypot(correction.x - START.x, correction.y - START.y) <= 0.1
+
+
+def test_pause_ignores_scans_until_resumed(rig: Any) -> None:
+    slam, robot, probe = rig
+    path = tour(robot.world)
+    drive(robot, probe, path[:5])
+    assert probe.call(probe.pause, SetBool.Request(data=True)).success
+    paused_from = robot.time
+    for pose in path[5:30]:
+        robot.step(pose)
+    assert probe.call(probe.pause, SetBool.Request(data=False)).success
+    resumed_at = robot.time
+    drive(robot, probe, path[30:32])
+    ignored = [s for s in probe.stamps() if paused_from < s <= resumed_at]
+    assert ignored == [], f"poses published while paused: {ignored}"
+    assert slam.slam is not None and len(slam.slam.poses) >= 2
+
+
+def test_save_map_writes_a_map_that_map_io_loads(rig: Any, tmp_path: Path) -> None:
+    slam, robot, probe = rig
+    refused = probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "early")))
+    assert not refused.result, "saved a map before any scan"
+    drive(robot, probe, tour(robot.world)[:25])
+    png = probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "m"), image_format="png"))
+    assert not png.result and not (tmp_path / "m.yaml").exists()
+    assert probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "m"))).result
+    loaded = load_map(tmp_path / "m.yaml")
+    data, spec = slam.slam.occupancy()
+    assert loaded.spec == spec
+    np.testing.assert_array_equal(loaded.data, data)
+    assert (loaded.data == 100).sum() > 100 and (loaded.data == 0).sum() > 1000

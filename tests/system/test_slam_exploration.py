@@ -1,0 +1,143 @@
+"""SLAM system run (seed 001): explore turtlebot3_world without a human, save the map, navigate on it.
+
+Phase 1: sim2d (default drifting odometry) + the SLAM processes of ``nav-bringup --slam``
+(nav_stack.ros.slam_bringup) + the Nav2 servers; ``nav-explore -f <map>`` drives NavigateToPose goals
+from the seeds' spawn (-2.0, -0.5, 0) until no reachable frontier is left, then saves the map.
+
+Map check: the reference maps/turtlebot3_world.yaml also marks the solid blocks' interiors and
+cells outside the wall, which no lidar inside the arena can see. So the truth is restricted to the
+*observable* occupied cells: those 8-adjacent to the reference's free space connected to the spawn
+(tests/helpers/nav_ros_slam_stack.observable_walls). The SLAM map's occupied cells are compared
+with them by IoU with a one-cell tolerance (TP: estimate cells within a cell of the truth; FP: other
+estimate cells; FN: truth cells farther than a cell from any estimate cell); it must reach 0.8. The
+map frame is checked at the same time: map_start_pose puts it on the reference's frame, so a frame
+error shows up as a low IoU. The SLAM pose (slam/pose) must stay within 0.1 m of the ground truth.
+
+Phase 2 (seed: "navigation on the saved map"): the saved map round-trips through map_server, amcl
+starts at the spawn, and a NavigateToPose goal to Nav2's system-test goal (0.0, 2.0) succeeds.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import threading
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+pytest.importorskip("nav_stack.ros.planner_server", reason="the Nav2 servers do not exist yet")
+pytest.importorskip("nav_stack.ros.bt_navigator", reason="the Nav2 servers do not exist yet")
+pytest.importorskip("nav_stack.ros.map_saver", reason="map_saver does not exist yet")
+
+from action_msgs.msg import GoalStatus
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.action import NavigateToPose
+from nav_msgs.msg import Odometry
+from rclpy.action import ActionClient
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from std_msgs.msg import UInt32
+
+from nav_stack.core.map_io import load_map
+from nav_stack.ros.conversions import pose_stamped
+from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.slam_bringup import slam_processes
+from tests.helpers.nav_ros_slam_stack import (
+    PARAMS_FILE,
+    Stack,
+    compare_with_reference,
+    explore,
+    localization_specs,
+    nav_specs,
+    progress_numbers,
+    sim_spec,
+)
+from tests.helpers.ros import wait_until
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+RTF = 3.0
+GOAL = (0.0, 2.0, 0.0)
+
+
+class Probe:
+    """Ground truth vs slam/pose (errors), collision count, and a NavigateToPose client; spun in a thread."""
+
+    def __init__(self, context: Any) -> None:
+        self.node = Node("slam_system_probe", context=context)
+        self.truth: tuple[float, float, float] | None = None  # t, x, y
+        self.errors: list[float] = []
+        self.collisions: list[int] = []
+        self.node.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
+        self.node.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self._on_pose, LATCHED)
+        self.node.create_subscription(UInt32, "/sim2d/collision_count",
+                                      lambda m: self.collisions.append(m.data), LATCHED)
+        self.navigate = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(target=self._spin, daemon=True)
+        self._thread.start()
+
+    def _spin(self) -> None:
+        with contextlib.suppress(Exception):  # the context goes down under the executor at teardown
+            self.executor.spin()
+
+    def _on_truth(self, msg: Odometry) -> None:
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.truth = (stamp, msg.pose.pose.position.x, msg.pose.pose.position.y)
+
+    def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        if self.truth is not None and abs(self.truth[0] - stamp) <= 0.05:
+            p = msg.pose.pose.position
+            self.errors.append(math.hypot(p.x - self.truth[1], p.y - self.truth[2]))
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.node.destroy_node()
+        self._thread.join(timeout=5.0)
+
+
+def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: Path) -> None:
+    probe = Probe(ros_context)
+    map_file = tmp_path / "explored"
+    try:
+        stack = Stack([sim_spec(RTF), *slam_processes(PARAMS_FILE), *nav_specs()])
+        try:
+            done = explore(map_file, max_time=900.0, timeout=1500.0)
+            assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:] + stack.tail()
+            assert "exploration complete" in done.stdout
+            numbers = progress_numbers(done.stdout)
+            iou = compare_with_reference(map_file.with_suffix(".yaml"))
+            errors = sorted(probe.errors)
+            median = errors[len(errors) // 2]
+            print(f"\nexploration: {numbers}, IoU {iou:.3f}, pose error median {median:.3f} "
+                  f"max {errors[-1]:.3f} m over {len(errors)} poses")
+            assert probe.collisions and probe.collisions[-1] == 0
+            assert iou >= 0.8, f"occupied IoU with the reference {iou:.3f}"
+            assert len(errors) > 50 and errors[-1] <= 0.1, f"max SLAM pose error {errors[-1]:.3f} m"
+        finally:
+            stack.close()
+
+        saved = load_map(map_file.with_suffix(".yaml"))
+        assert (saved.data == -1).any(), "unknown cells must stay unknown after the round trip"
+        stack = Stack([sim_spec(RTF), *localization_specs(map_file.with_suffix(".yaml")), *nav_specs()])
+        try:
+            wait_until(lambda: probe.navigate.server_is_ready() or not stack.alive(), 60.0,
+                       "navigate_to_pose")
+            goal = NavigateToPose.Goal()
+            goal.pose = pose_stamped(*GOAL, "map", probe.node.get_clock().now().to_msg())
+            sent = probe.navigate.send_goal_async(goal)
+            wait_until(sent.done, 30.0, "goal acceptance")
+            assert sent.result().accepted
+            result = sent.result().get_result_async()
+            wait_until(lambda: result.done() or not stack.alive(), 300.0, "the navigation result")
+            assert result.done(), stack.tail()
+            assert result.result().status == GoalStatus.STATUS_SUCCEEDED, result.result().result.error_msg
+            assert probe.truth is not None
+            assert math.hypot(probe.truth[1] - GOAL[0], probe.truth[2] - GOAL[1]) < 0.5
+        finally:
+            stack.close()
+    finally:
+        probe.close()
