@@ -225,7 +225,10 @@ def test_driving_into_a_pillar_publishes_one_collision(rig: Rig) -> None:
     rig.spin_until(lambda: bool(rig.received["/ground_truth"]), "ground truth")
     rig.teleport(target)
     rig.spin_until(lambda: rig.truth()[:2] == pytest.approx((-1.7, -1.1)), "teleport in front of the pillar")
-    _drive(rig, 0.26, 0.0, lambda: rig.last("/sim2d/collision_count").data >= 1, "a collision")
+    # The count and the contact point travel on two topics: wait until both have arrived.
+    _drive(rig, 0.26, 0.0,
+           lambda: bool(rig.received["/sim2d/collisions"]) and rig.last("/sim2d/collision_count").data >= 1,
+           "a collision (count and contact point)")
     point = rig.last("/sim2d/collisions")
     assert point.header.frame_id == "map"
     assert (point.point.x, point.point.y) == pytest.approx((-1.25, -1.1), abs=0.01)
