@@ -1,9 +1,10 @@
 """AMCL update time on the TB3 world map: laser (likelihood field) weighting and a full filter update.
 
-Target (brief): ≤ 3 ms median for the laser update at 2000 particles × 60 beams. "laser" is the
-sensor model alone (endpoints for all particles, field lookup, Σ pz³); "full update" is what one
-scan costs when the filter updates: motion model + laser + KLD low-variance resampling (the count
-pinned by min_particles = max_particles). "estimate" is the heaviest-cluster pose for amcl_pose.
+Target (brief): ≤ 3 ms median for an AMCL update at 2000 particles × 60 beams. "laser" is the
+sensor model alone (endpoints for all particles, field lookup, Σ log pz); "full update" is what one
+scan costs when the filter updates: motion model + laser + tempered re-weighting (ESS bisection) +
+KLD low-variance resampling (the count pinned by min_particles = max_particles). "estimate" is the
+heaviest-cluster pose for amcl_pose.
 
 Run: ``.venv/bin/python -m bench.bench_amcl`` (``--no-record`` to only print).
 """
@@ -35,7 +36,7 @@ def main() -> None:
         beams = select_beams(scan, (0.0, 0.0, 0.0), params)
         laser = bench.time(
             f"laser update {n} particles",
-            lambda a=amcl, b=beams: a.model.weights(a.particles, b),
+            lambda a=amcl, b=beams: a.model.log_likelihood(a.particles, b),
             repeat=200,
             warmup=10,
         )

@@ -7,7 +7,8 @@ map_server + amcl + lifecycle_manager_localization as child processes, ground-tr
             below 0.25 m (-1 when it never does);
   kidnap    a 2 m teleport with recovery_alpha_slow/fast 0.001/0.1: sim seconds until the error stays
             below 0.25 m again (-1 when it never does).
-Odometry alphas are 0.05 (see tests/integration/nav_stack/test_amcl_sim.py); `--nav2-alphas` uses 0.2.
+Nav2's default parameters (alphas 0.2, sigma_hit 0.2, 60 beams, 500–2000 particles) plus min_ess_ratio
+0.5; the kidnap run enables recovery (0.001 / 0.1).
 
 Run: ``.venv/bin/python -m bench.bench_localization`` (``--no-record`` to only print).
 """
@@ -15,7 +16,6 @@ Run: ``.venv/bin/python -m bench.bench_localization`` (``--no-record`` to only p
 from __future__ import annotations
 
 import os
-import sys
 import tempfile
 from pathlib import Path
 
@@ -25,10 +25,7 @@ import rclpy
 from rclpy.context import Context
 
 from bench.harness import Benchmark
-from tests.helpers.nav_ros_loc_tour import TourResult, TourRun
-
-TUNED = {"alpha1": 0.05, "alpha2": 0.05, "alpha3": 0.05, "alpha4": 0.05}
-RECOVERY = {"recovery_alpha_slow": 0.001, "recovery_alpha_fast": 0.1}
+from tests.helpers.nav_ros_loc_tour import RECOVERY, TourResult, TourRun
 
 
 def _run(**kwargs: object) -> TourResult:
@@ -43,10 +40,9 @@ def _run(**kwargs: object) -> TourResult:
 
 def main() -> None:
     bench = Benchmark("localization")
-    alphas = {} if "--nav2-alphas" in sys.argv else TUNED
-    note = f"sim2d drift, rtf 4, alphas {'0.2' if not alphas else '0.05'}"
+    note = "sim2d drift, rtf 4, Nav2 defaults, product likelihood, min_ess_ratio 0.5"
 
-    tracking = _run(amcl_params=alphas)
+    tracking = _run()
     rms_xy, rms_yaw = tracking.rms_after(0)
     poses = len(tracking.samples)
     bench.record_value("tracking RMS position error", rms_xy, "m", note=f"{poses} poses, {note}")
@@ -54,13 +50,13 @@ def main() -> None:
     worst = max(s.error_xy for s in tracking.samples)
     bench.record_value("tracking max position error", worst, "m", note=note)
 
-    global_run = _run(amcl_params=alphas, global_localization=True)
+    global_run = _run(global_localization=True)
     start = global_run.converged_index()
     distance = global_run.samples[start].distance if start is not None else -1.0
     bench.record_value("global localization: distance to converge (< 0.25 m)", distance, "m",
                        note=("-1 = not converged on the tour; " if start is None else "") + note)
 
-    kidnap = _run(amcl_params={**alphas, **RECOVERY}, kidnap=True)
+    kidnap = _run(amcl_params=RECOVERY, kidnap=True)
     after = kidnap.converged_index(after=kidnap.kidnap_time or 0.0)
     recovery = kidnap.samples[after].t - (kidnap.kidnap_time or 0.0) if after is not None else -1.0
     bench.record_value("kidnap (2 m teleport) recovery time", recovery, "sim s",

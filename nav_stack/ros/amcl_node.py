@@ -4,10 +4,15 @@ Why: Nav2 clients expect AMCL's exact surface (names, QoS, post-dated map→odom
 filter itself lives in the core, so this node only translates and schedules:
 
   in   ``map`` (OccupancyGrid, transient local): builds the filter (a new map keeps the last estimate)
-       ``scan`` (LaserScan, sensor QoS) with TF odom→base_footprint at the scan stamp; a scan whose
-       stamp is newer than the odometry in the buffer waits up to SCAN_TF_WAIT (like a message
-       filter), then the latest odometry is used. The base→laser offset comes from TF (static).
-       REP 117: +inf (no return) counts as a max-range reading, -inf (too close) as below range_min.
+       ``scan`` (LaserScan, best effort, depth 1) with TF odom→base_footprint interpolated at the
+       scan stamp, never the latest odometry: a scan taken with the robot elsewhere than the
+       odometry says moves every particle by the difference. A scan whose stamp is newer than the
+       odometry in the buffer waits up to SCAN_TF_WAIT (like Nav2's message filter) and is dropped
+       if its odometry does not come. Only the newest scan counts: depth 1 lets the middleware drop
+       scans a busy node could not take, a newer scan replaces one still waiting, and a scan not
+       newer than the last one used is ignored, so a lagging node never works through a backlog.
+       The base→laser offset comes from TF (static). REP 117: +inf (no return) counts as a
+       max-range reading, -inf (too close) as below range_min.
        ``initialpose`` (PoseWithCovarianceStamped, reliable depth 10) and the service
        ``set_initial_pose``: rejected with a logged reason when NaN, not in ``global_frame_id`` or
        outside the map; one that arrives before the map (like a global localization request) is
@@ -39,6 +44,7 @@ from nav2_msgs.srv import SetInitialPose
 from nav_msgs.msg import OccupancyGrid
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from sensor_msgs.msg import LaserScan as LaserScanMsg
 from std_srvs.srv import Empty
@@ -48,7 +54,7 @@ from nav_stack.core.localization import Amcl, AmclParams, map_to_odom
 from nav_stack.ros.conversions import grid_from_occupancy, pose_from_2d, pose_to_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD, SENSOR
+from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
 from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_seconds, transform_to_msg
 from ros_tools.tf.transform import Transform
@@ -59,6 +65,8 @@ PENDING_POLL_PERIOD = 0.01  # wall s
 TF_REPUBLISH_PERIOD = 0.1  # wall s
 WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
 NO_POSE_WARNING = "AMCL cannot publish a pose or update the transform. Please set the initial pose..."
+#: Scans: sensor-data QoS but only the newest sample is kept (see the module docstring).
+SCAN_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
 Pose = tuple[float, float, float]
 
 
@@ -102,6 +110,7 @@ class AmclNode(NavLifecycleNode):
         self._laser_poses: dict[str, Pose] = {}
         self._map_to_odom: Pose | None = None
         self._last_tf_stamp = -math.inf
+        self._last_scan_stamp = -math.inf
         self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self._owned: list[object] = []
         self._active_owned: list[object] = []
@@ -127,7 +136,7 @@ class AmclNode(NavLifecycleNode):
         self._pending_timer.cancel()  # runs only while a scan waits for its odometry
         self._active_owned = [
             self.create_subscription(OccupancyGrid, p.map_topic, self._on_map, LATCHED),
-            self.create_subscription(LaserScanMsg, p.scan_topic, self._on_scan, SENSOR),
+            self.create_subscription(LaserScanMsg, p.scan_topic, self._on_scan, SCAN_QOS),
             self.create_subscription(PoseWithCovarianceStamped, "initialpose", self._on_initial_pose,
                                      DEFAULT),
             self._pending_timer,
@@ -141,6 +150,7 @@ class AmclNode(NavLifecycleNode):
             self._destroy(entity)
         self._active_owned = []
         self._pending_scan = None
+        self._last_scan_stamp = -math.inf
 
     def cleanup(self) -> None:
         for entity in self._owned:
@@ -214,6 +224,7 @@ class AmclNode(NavLifecycleNode):
         except ValueError as error:
             self.get_logger().warning(f"Rejected initial pose from {source}: {error}")
             return
+        self._last_scan_stamp = -math.inf
         self.get_logger().info(f"Setting pose from {source}: {pose[0]:.3f} {pose[1]:.3f} {pose[2]:.3f}")
         now = self.get_clock().now().nanoseconds * 1e-9
         odom = self._odom_pose(None)
@@ -227,7 +238,9 @@ class AmclNode(NavLifecycleNode):
         if not self.amcl.initialized:
             self.get_logger().warning(NO_POSE_WARNING, throttle_duration_sec=WARN_PERIOD)
             return
-        self._pending_scan = (msg, time.monotonic())
+        if stamp_to_seconds(msg.header.stamp) <= self._last_scan_stamp:
+            return  # older than (or the same as) a scan already used: out of order or replayed
+        self._pending_scan = (msg, time.monotonic())  # replaces an older scan still waiting
         self._process_pending_scan()
         if self._pending_scan is not None:
             self._pending_timer.reset()
@@ -244,16 +257,13 @@ class AmclNode(NavLifecycleNode):
             self._pending_timer.cancel()
             return
         try:
-            odom = self._lookup_pose(stamp)
+            odom: Pose | None = self._lookup_pose(stamp)
         except ExtrapolationError as error:
-            if time.monotonic() - received < SCAN_TF_WAIT:
+            if "future" in str(error) and time.monotonic() - received < SCAN_TF_WAIT:
                 return  # odometry for this stamp may still be on its way
-            latest = self._odom_pose(None)
-            if latest is None:
-                return
-            odom = latest
-            self.get_logger().warning(f"Using the latest odometry for a scan at {stamp:.3f} s ({error})",
-                                      throttle_duration_sec=WARN_PERIOD)
+            odom = None
+            self.get_logger().warning(f"Dropped the scan at {stamp:.3f} s: no odometry at its stamp "
+                                      f"({error})", throttle_duration_sec=WARN_PERIOD)
         except TransformError as error:
             odom = None
             self.get_logger().warning(f"Couldn't determine robot's pose associated with laser scan: {error}",
@@ -261,6 +271,7 @@ class AmclNode(NavLifecycleNode):
         self._pending_scan = None
         self._pending_timer.cancel()
         if odom is not None:
+            self._last_scan_stamp = stamp
             self._update(msg, stamp, odom, laser)
 
     def _lookup_pose(self, stamp: float | None) -> Pose:
@@ -359,6 +370,7 @@ class AmclNode(NavLifecycleNode):
             return response
         self.get_logger().info("Initializing with uniform distribution")
         self.amcl.global_localization()
+        self._last_scan_stamp = -math.inf
         return response
 
     def _on_nomotion_update(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:

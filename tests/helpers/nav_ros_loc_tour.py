@@ -42,6 +42,7 @@ TOUR = [(-1.65, -0.55), (1.65, -0.55), (1.65, 0.55), (0.55, 0.55), (0.55, 1.65),
 KIDNAP_AFTER = 1  # teleport when waypoint TOUR[1] is reached ...
 KIDNAP_TO = (1.65, 1.45, -math.pi / 2)  # ... 2.0 m north of it, facing the next waypoint
 CONVERGED = 0.25  # m: position error below which (for good) localization counts as converged
+RECOVERY = {"recovery_alpha_slow": 0.001, "recovery_alpha_fast": 0.1}  # Nav2's suggested values
 MAX_V, MAX_W = 0.22, 1.0  # m/s, rad/s
 
 

@@ -3,6 +3,10 @@
 Why: one frozen dataclass is the single source of defaults; the amcl node declares one ROS
 parameter per field. Nav2's nested ``initial_pose.{x,y,z,yaw}`` become ``initial_pose_x`` etc.
 Distances in metres, angles in radians, rates in Hz, times in seconds.
+
+One knob Nav2 does not have: ``min_ess_ratio`` (0..1), the effective sample size, as a fraction of
+the particle count, that a laser update must leave; the scan likelihood is tempered to keep it (see
+weighting.py). 0 applies the full likelihood to every scan.
 """
 
 from __future__ import annotations
@@ -56,6 +60,7 @@ class AmclParams:
     z_max: float = 0.05
     z_rand: float = 0.5
     z_short: float = 0.05
+    min_ess_ratio: float = 0.5
     scan_topic: str = "scan"
     map_topic: str = "map"
     set_initial_pose: bool = False
@@ -82,6 +87,8 @@ class AmclParams:
         if not 1 <= self.min_particles <= self.max_particles:
             raise ValueError(f"AmclParams needs 1 <= min_particles <= max_particles, got "
                              f"min_particles={self.min_particles}, max_particles={self.max_particles}")
+        if not 0.0 <= self.min_ess_ratio < 1.0:
+            raise ValueError(f"AmclParams.min_ess_ratio must be in [0, 1), got {self.min_ess_ratio}")
         if self.max_beams < 2:
             raise ValueError(f"AmclParams.max_beams must be >= 2, got {self.max_beams}")
         if self.resample_interval < 1:

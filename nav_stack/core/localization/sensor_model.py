@@ -1,15 +1,16 @@
 """Laser models of nav2_amcl: likelihood field (default) and beam, vectorised over particles × beams.
 
 Why: the sensor update dominates AMCL's cost. The likelihood field depends only on the map, so the
-per-cell term pz³ is precomputed once per range_max and one scan update is: two small matrix
+per-cell term log pz is precomputed once per range_max and one scan update is: two small matrix
 products that place every beam endpoint of every particle in grid cells, one integer gather, one
 row sum. Off-map endpoints read a one-cell border that holds the "max distance" value.
 
-Likelihood field: the distance d (m) from each cell to the nearest occupied cell (value 100),
-capped at ``laser_likelihood_max_dist``; per beam pz = z_hit·exp(−d²/2σ_hit²) + z_rand/range_max,
-and a particle's weight is multiplied by p = 1 + Σ pz³ (Nav2's ad-hoc sum, not a product).
+Likelihood field: the distance d (m) from each cell centre to the nearest occupied cell (value 100),
+capped at ``laser_likelihood_max_dist``; per beam pz = z_hit·exp(−d²/2σ_hit²) + z_rand/range_max.
 Beam model: the expected range is ray-cast in the map (stopping at any non-free cell), and
 pz = z_hit·exp(−Δ²/2σ²) + z_short·λ·e^{−λr} (if shorter) + z_max (if r = range_max) + z_rand/range_max.
+Both return Σ log pz per particle (the log of the product over beams); how that becomes a weight,
+and why it is not Nav2's 1 + Σ pz³, is in weighting.py.
 
 Beams: Nav2 keeps every ``step``-th beam with step = (count − 1) // (max_beams − 1) (at least 1), drops
 NaN and readings ≥ range_max; readings ≤ range_min are treated as range_max (thus dropped too).
@@ -30,6 +31,7 @@ from nav_stack.core.localization.params import AmclParams
 
 Pose2D = tuple[float, float, float]
 F32 = npt.NDArray[np.float32]
+_TINY = 1e-300  # floor of pz, so log pz stays finite when z_rand = 0
 
 
 @dataclass(frozen=True)
@@ -104,23 +106,22 @@ class LikelihoodFieldModel:
         if table is None:
             p = self.params
             pz = p.z_hit * np.exp(-(self.distance**2) / (2.0 * p.sigma_hit**2)) + p.z_rand / range_max
-            table = (pz**3).astype(np.float32).ravel()
+            table = np.log(np.maximum(pz, _TINY)).astype(np.float32).ravel()
             self._tables = {range_max: table}
         return table
 
-    def weights(self, particles: FloatArray, beams: Beams) -> FloatArray:
-        """p = 1 + Σ pz³ for each particle (N,)."""
+    def log_likelihood(self, particles: FloatArray, beams: Beams) -> FloatArray:
+        """Σ log pz over the beams, for each particle (N,)."""
         if beams.ranges.size == 0:
-            return np.ones(particles.shape[0])
+            return np.zeros(particles.shape[0])
         spec = self.lookup.spec
         gx, gy = _endpoints(self.lookup, particles, beams)
         ix = np.clip(gx + 1.0, 0.0, spec.width + 1.0, out=gx).astype(np.int32)
         iy = np.clip(gy + 1.0, 0.0, spec.height + 1.0, out=gy).astype(np.int32)
         iy *= spec.width + 2
         iy += ix
-        total = self._table(beams.range_max).take(iy).sum(axis=1, dtype=np.float64)
-        p: FloatArray = total + 1.0
-        return p
+        total: FloatArray = self._table(beams.range_max).take(iy).sum(axis=1, dtype=np.float64)
+        return total
 
 
 class BeamModel:
@@ -156,15 +157,15 @@ class BeamModel:
             t += step
         return result
 
-    def weights(self, particles: FloatArray, beams: Beams) -> FloatArray:
-        """p = 1 + Σ pz³ for each particle (N,)."""
+    def log_likelihood(self, particles: FloatArray, beams: Beams) -> FloatArray:
+        """Σ log pz over the beams, for each particle (N,)."""
         if beams.ranges.size == 0:
-            return np.ones(particles.shape[0])
+            return np.zeros(particles.shape[0])
         p = self.params
         obs = beams.ranges[None, :]
         z = obs - self.expected_ranges(particles, beams)
         pz = p.z_hit * np.exp(-(z**2) / (2.0 * p.sigma_hit**2))
         pz = pz + np.where(z < 0, p.z_short * p.lambda_short * np.exp(-p.lambda_short * obs), 0.0)
         pz = pz + np.where(obs >= beams.range_max, p.z_max, p.z_rand / beams.range_max)
-        out: FloatArray = 1.0 + (pz**3).sum(axis=1)
+        out: FloatArray = np.log(np.maximum(pz, _TINY)).sum(axis=1)
         return out

@@ -1,9 +1,11 @@
 """amcl on a scripted tour of turtlebot3_world in sim2d (drifting odometry): tracking, global, kidnap.
 
-Each test prints its measured numbers (run with -s to see them); bench/bench_localization.py records
-them. Odometry noise alphas are 0.05 instead of Nav2's 0.2 (sim2d's drift is far smaller than 0.2
-implies; with 0.2 the filter's own motion noise dominates). The asserted bounds (0.25 m / 0.20 rad RMS)
-are looser than the targets (0.05 m / 0.05 rad): they catch a lost or biased filter, not tuning.
+Nav2's default parameters throughout (alphas 0.2, sigma_hit 0.2, 60 beams, 500–2000 particles);
+the kidnap run enables recovery with Nav2's suggested recovery_alpha_slow/fast 0.001/0.1. Each test
+prints its measured numbers (run with -s); bench/bench_localization.py records them. The bounds are
+what the filter meets on a loaded 2-core machine (measured in 8 runs: tracking RMS 0.039–0.043 m /
+0.025–0.03 rad, max 0.09–0.11 m, once 0.077 m RMS with a 0.46 m excursion), so they catch a biased
+or lost filter without being timing-sensitive.
 """
 
 from __future__ import annotations
@@ -15,10 +17,9 @@ import pytest
 
 pytest.importorskip("nav2_msgs.srv")
 
-from tests.helpers.nav_ros_loc_tour import CONVERGED, TourRun
+from tests.helpers.nav_ros_loc_tour import CONVERGED, RECOVERY, TourRun
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
-TUNING = {"alpha1": 0.05, "alpha2": 0.05, "alpha3": 0.05, "alpha4": 0.05}
 
 
 def _check_run(result: Any) -> None:
@@ -28,34 +29,29 @@ def _check_run(result: Any) -> None:
 
 
 def test_tracking_from_the_seed_initial_pose(ros_context: Any, tmp_path: Path) -> None:
-    result = TourRun(ros_context, rtf=4.0, amcl_params=TUNING).run(tmp_path)
+    result = TourRun(ros_context, rtf=4.0).run(tmp_path)
     _check_run(result)
     rms_xy, rms_yaw = result.rms_after(0)  # the start pose is known: every pose counts
     worst = max(s.error_xy for s in result.samples)
     print(f"\ntracking: {len(result.samples)} poses, RMS {rms_xy:.3f} m / {rms_yaw:.3f} rad, "
           f"max {worst:.3f} m")
-    assert rms_xy < 0.25 and rms_yaw < 0.20
+    assert rms_xy < 0.08 and rms_yaw < 0.08
 
 
-CORE_GAP = ("nav_stack.core.localization with the cube-sum likelihood field does not converge on this tour "
-            "yet (bench/RESULTS.md, localization rows); the node side is exercised by test_amcl.py")
-
-
-@pytest.mark.xfail(reason=CORE_GAP, strict=False)
 def test_global_localization_converges_on_the_tour(ros_context: Any, tmp_path: Path) -> None:
-    result = TourRun(ros_context, rtf=4.0, global_localization=True, amcl_params=TUNING).run(tmp_path)
+    result = TourRun(ros_context, rtf=4.0, global_localization=True).run(tmp_path)
     _check_run(result)
     start = result.converged_index()
     assert start is not None and len(result.samples) - start >= 10, \
         [round(s.error_xy, 2) for s in result.samples]
+    rms_xy, _ = result.rms_after(start)
     print(f"\nglobal: converged (< {CONVERGED} m) after {result.samples[start].distance:.2f} m driven, "
-          f"RMS afterwards {result.rms_after(start)[0]:.3f} m")
+          f"RMS afterwards {rms_xy:.3f} m")
+    assert rms_xy < 0.08
 
 
-@pytest.mark.xfail(reason=CORE_GAP, strict=False)
 def test_kidnapped_robot_is_recovered(ros_context: Any, tmp_path: Path) -> None:
-    params = {**TUNING, "recovery_alpha_slow": 0.001, "recovery_alpha_fast": 0.1}
-    result = TourRun(ros_context, rtf=4.0, kidnap=True, amcl_params=params).run(tmp_path)
+    result = TourRun(ros_context, rtf=4.0, kidnap=True, amcl_params=RECOVERY).run(tmp_path)
     _check_run(result)
     assert result.kidnap_time is not None
     before = result.converged_index(until=result.kidnap_time)
