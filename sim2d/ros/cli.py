@@ -10,12 +10,15 @@ and exit code 2.
 from __future__ import annotations
 
 import argparse
+import itertools
 import os
 import sys
 from pathlib import Path
 from typing import NoReturn
 
-from sim2d.ros.config import ParamValue, build_config, coerce, load_params_file
+import yaml
+
+from sim2d.ros.config import ParamValue, build_config, coerce, defaults, load_params_file
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
 EXIT_USAGE = 2
@@ -58,12 +61,31 @@ def parse(argv: list[str]) -> tuple[dict[str, ParamValue], list[str]]:
     args = parser.parse_args(argv)
     params_file = args.params_file or (DEFAULT_PARAMS if DEFAULT_PARAMS.is_file() else None)
     values = load_params_file(params_file) if params_file else {}
+    # The node receives these values as parameter_overrides, which rclpy ranks above --ros-args; so
+    # fold '--params-file' and '-p name:=value' from --ros-args in here, after the default file and
+    # before the explicit flags (precedence: defaults < config file < --ros-args < flags).
+    values.update(_ros_args_values(ros_args))
     flags = {"world": args.world, "robot": args.robot, "real_time_factor": args.rtf, "seed": args.seed,
              "initial_pose.x": args.x, "initial_pose.y": args.y, "initial_pose.yaw": args.yaw,
              "enable_stamped_cmd_vel": args.stamped}
     values.update({name: coerce(name, value, "command line") for name, value in flags.items()
                    if value is not None})
     return values, ros_args
+
+
+def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:
+    """Parameter values given after --ros-args ('--params-file FILE', '-p|--param name:=value')."""
+    values: dict[str, ParamValue] = {}
+    for flag, operand in itertools.pairwise(ros_args):
+        if flag == "--params-file":
+            values.update(load_params_file(Path(operand)))
+        elif flag in ("-p", "--param"):
+            name, sep, text = operand.partition(":=")
+            if not sep:
+                raise ValueError(f"--ros-args {flag} {operand}: expected name:=value")
+            if name in defaults():  # others (use_sim_time, qos overrides...) are rclpy's business
+                values[name] = coerce(name, yaml.safe_load(text), "--ros-args")
+    return values
 
 
 def main(argv: list[str] | None = None) -> int:

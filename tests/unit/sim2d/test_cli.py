@@ -49,3 +49,13 @@ def test_bad_input_is_one_line_naming_file_and_field(tmp_path: Path, capsys: pyt
     assert exit_info.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("sim2d: error: ") and message in err
+
+
+def test_ros_args_parameters_override_the_config_file_and_flags_override_both():
+    from sim2d.ros.cli import parse
+
+    values, ros_args = parse(["--rtf", "2", "--ros-args", "-p", "odometry.ideal:=true",
+                              "-p", "real_time_factor:=7.0", "-p", "use_sim_time:=false"])
+    assert values["odometry.ideal"] is True  # was silently ignored before: the file's value won
+    assert values["real_time_factor"] == 2.0  # the explicit flag wins
+    assert "use_sim_time" not in values and "use_sim_time:=false" in ros_args  # left to rclpy
