@@ -19,6 +19,7 @@ print one line naming the file and item and exit with code 2.
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 import time
@@ -228,14 +229,41 @@ class AutonomyNode(Node):
         super().destroy_node()
 
 
+def _ros_args(argv: Sequence[str]) -> list[str]:
+    """Turn the command-line flags into rclpy arguments; everything after --ros-args passes through."""
+    argv = list(argv)
+    tail = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
+    head = argv[: len(argv) - len(tail)]
+    parser = argparse.ArgumentParser(
+        prog="nav-autonomy",
+        description="The seed's battery-aware behavior-tree autonomy: runs a BehaviorTree.CPP tree "
+                    "(v3 or v4) over named locations with NavigateToPose. Flags set the node's "
+                    "parameters; pass others after --ros-args (-p name:=value, --params-file FILE).",
+    )
+    parser.add_argument("--tree", dest="tree_file", help=f"BT XML (default {AutonomyParams.tree_file})")
+    parser.add_argument("--locations", dest="location_file",
+                        help=f"name: [x, y, theta] file (default {AutonomyParams.location_file})")
+    parser.add_argument("--battery-source", choices=("topic", "counter"),
+                        help="/battery_state from the simulator (default) or the seed's counter")
+    parser.add_argument("--max-cycles", type=int, help="stop after N root results (default 0: forever)")
+    args = parser.parse_args(head)
+    params = [f"{name}:={value}" for name, value in vars(args).items() if value is not None]
+    if not params:
+        return ["nav-autonomy", *tail]
+    if not tail:
+        tail = ["--ros-args"]
+    return ["nav-autonomy", *tail, *(arg for param in params for arg in ("-p", param))]
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until ``max_cycles`` or Ctrl-C; exit 2 with one line on a configuration error."""
+    args = _ros_args(sys.argv[1:] if argv is None else argv)
     import rclpy
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
 
-    rclpy.init(args=list(sys.argv if argv is None else ["nav-autonomy", *argv]))
+    rclpy.init(args=args)
     node: AutonomyNode | None = None
     try:
         try:
