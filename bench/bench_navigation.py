@@ -1,0 +1,248 @@
+"""50 random goals in turtlebot3_world through the whole stack (nav-bringup), one after another.
+
+Goals are sampled (seeded) among free map cells with >= 0.4 m clearance to any occupied or unknown
+cell, each one reachable per the running planner (compute_path_to_pose from the previous goal;
+the plan's length is the optimal path). Recorded: success rate, collisions (sim2d/collision_count
+delta), time-to-goal against the ideal time (optimal path length / max speed 0.26 m/s, waffle)
+as a ratio, and the real-time factor the whole stack sustained (sim time / wall time).
+Targets: >= 98 % success, 0 collisions, <= 1.3x ideal.
+
+    .venv/bin/python -m bench.bench_navigation [--goals 50] [--rtf 1.0] [--seed 7] [--no-record]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from bench.harness import Benchmark
+
+REPO = Path(__file__).resolve().parents[1]
+MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
+MIN_CLEARANCE = 0.4  # m
+MAX_SPEED = 0.26  # m/s, waffle (controller max_vel_x)
+GOAL_TIMEOUT = 300.0  # s (wall) per goal
+
+
+def free_poses(min_clearance: float) -> np.ndarray:
+    """(N, 2) world positions of free map cells at least ``min_clearance`` m from any non-free cell."""
+    from nav_stack.core.map_io import load_map
+
+    occupancy = load_map(MAP_YAML)
+    data, spec = occupancy.data, occupancy.spec
+    free = data == 0
+    blocked_rows, blocked_cols = np.nonzero(~free)
+    rows, cols = np.nonzero(free)
+    keep = np.ones(len(rows), dtype=bool)
+    reach = math.ceil(min_clearance / spec.resolution)
+    for start in range(0, len(rows), 512):  # chunked nearest-blocked-cell distance
+        r, c = rows[start:start + 512, None], cols[start:start + 512, None]
+        near = (np.abs(blocked_rows[None, :] - r) <= reach) & (np.abs(blocked_cols[None, :] - c) <= reach)
+        d2 = (blocked_rows[None, :] - r) ** 2 + (blocked_cols[None, :] - c) ** 2
+        d2 = np.where(near, d2, np.iinfo(np.int64).max)
+        keep[start:start + 512] = np.sqrt(d2.min(axis=1)) * spec.resolution >= min_clearance
+    xs, ys = spec.cell_to_world(cols[keep], rows[keep])
+    return np.column_stack((xs, ys))
+
+
+class Driver:
+    """Client node: plans, navigates, counts collisions, reads /clock."""
+
+    def __init__(self) -> None:
+        import rclpy
+        from nav2_msgs.action import ComputePathToPose, NavigateToPose
+        from nav_msgs.msg import Odometry
+        from rclpy.action import ActionClient
+        from rclpy.executors import MultiThreadedExecutor
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+        from rosgraph_msgs.msg import Clock
+        from std_msgs.msg import UInt32
+
+        rclpy.init()
+        self.node = rclpy.create_node("bench_navigation")
+        self.nav = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
+        self.plan = ActionClient(self.node, ComputePathToPose, "compute_path_to_pose")
+        self.collisions = 0
+        self.sim_time = 0.0
+        self.truth: tuple[float, float] | None = None
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.node.create_subscription(UInt32, "sim2d/collision_count", self._on_collisions, latched)
+        self.node.create_subscription(Clock, "/clock", self._on_clock, 10)
+        self.node.create_subscription(Odometry, "ground_truth", self._on_truth, 10)
+        self.executor = MultiThreadedExecutor(num_threads=2)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self._thread.start()
+
+    def _on_collisions(self, msg: Any) -> None:
+        self.collisions = int(msg.data)
+
+    def _on_truth(self, msg: Any) -> None:
+        self.truth = (msg.pose.pose.position.x, msg.pose.pose.position.y)
+
+    def _on_clock(self, msg: Any) -> None:
+        self.sim_time = msg.clock.sec + msg.clock.nanosec * 1e-9
+
+    @staticmethod
+    def _wait(future: Any, timeout: float) -> bool:
+        deadline = time.monotonic() + timeout
+        while not future.done():
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.02)
+        return True
+
+    @staticmethod
+    def pose(x: float, y: float, yaw: float = 0.0) -> Any:
+        from geometry_msgs.msg import PoseStamped
+
+        msg = PoseStamped()
+        msg.header.frame_id = "map"
+        msg.pose.position.x, msg.pose.position.y = float(x), float(y)
+        msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        return msg
+
+    def path_length(self, start: tuple[float, float], goal: tuple[float, float]) -> float | None:
+        """Length (m) of the planner's path from ``start`` to ``goal``; None when it fails."""
+        from nav2_msgs.action import ComputePathToPose
+
+        request = ComputePathToPose.Goal(goal=self.pose(*goal), start=self.pose(*start), use_start=True)
+        sent = self.plan.send_goal_async(request)
+        if not self._wait(sent, 30.0) or not sent.result().accepted:
+            return None
+        result = sent.result().get_result_async()
+        if not self._wait(result, 30.0) or result.result().result.error_code != 0:
+            return None
+        poses = result.result().result.path.poses
+        xy = np.array([(p.pose.position.x, p.pose.position.y) for p in poses])
+        return float(np.hypot(*np.diff(xy, axis=0).T).sum()) if len(xy) > 1 else 0.0
+
+    def navigate(self, goal: tuple[float, float, float]) -> tuple[bool, float, str]:
+        """(succeeded, sim seconds, error message)."""
+        from action_msgs.msg import GoalStatus
+        from nav2_msgs.action import NavigateToPose
+
+        started = self.sim_time
+        sent = self.nav.send_goal_async(NavigateToPose.Goal(pose=self.pose(*goal)))
+        if not self._wait(sent, 30.0) or not sent.result().accepted:
+            return False, 0.0, "goal not accepted"
+        outcome = sent.result().get_result_async()
+        if not self._wait(outcome, GOAL_TIMEOUT):
+            sent.result().cancel_goal_async()
+            return False, self.sim_time - started, "timeout"
+        response = outcome.result()
+        ok = response.status == GoalStatus.STATUS_SUCCEEDED
+        return ok, self.sim_time - started, response.result.error_msg
+
+    def close(self) -> None:
+        import rclpy
+
+        self.executor.shutdown()
+        self.node.destroy_node()
+        rclpy.try_shutdown()
+
+
+def _watch(proc: subprocess.Popen[str], ready: threading.Event) -> None:
+    """Echo nav-bringup's warnings and errors; set ``ready`` on its readiness line."""
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if "Nav2 is ready" in line:
+            ready.set()
+        if "ERROR" in line or "[launch]" in line:
+            print(line.rstrip(), flush=True)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--goals", type=int, default=50)
+    parser.add_argument("--rtf", default="1.0")
+    parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--no-record", action="store_true")
+    args = parser.parse_args()
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    os.environ.setdefault("ROS_DOMAIN_ID", str(101 + os.getpid() % 100))
+    rng = np.random.default_rng(args.seed)
+    candidates = free_poses(MIN_CLEARANCE)
+    bringup = subprocess.Popen([sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", args.rtf], cwd=REPO,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    ready = threading.Event()
+    threading.Thread(target=_watch, args=(bringup, ready), daemon=True).start()
+    driver: Driver | None = None
+    bench = Benchmark("navigation")
+    interrupted = threading.Event()  # Ctrl-C: finish the current goal, record what was measured
+    signal.signal(signal.SIGINT, lambda *_: interrupted.set())
+    try:
+        if not ready.wait(300.0):
+            raise RuntimeError("nav-bringup did not print 'Nav2 is ready' within 300 s")
+        driver = Driver()
+        deadline = time.monotonic() + 60.0
+        while not (driver.nav.server_is_ready() and driver.plan.server_is_ready() and driver.sim_time > 0.0):
+            if time.monotonic() > deadline:
+                raise RuntimeError("navigate_to_pose / compute_path_to_pose / clock not available")
+            time.sleep(0.1)
+        position = last_reached = (-2.0, -0.5)
+        collisions0, sim0, wall0 = driver.collisions, driver.sim_time, time.monotonic()
+        successes, ratios = 0, []
+        done = 0
+        for index in range(args.goals):
+            attempts = 0
+            while True:
+                x, y = candidates[rng.integers(len(candidates))]
+                if math.hypot(x - position[0], y - position[1]) < 0.5:
+                    continue
+                length = driver.path_length(position, (x, y))
+                if length is not None and length > 0.0:
+                    break
+                attempts += 1
+                if attempts >= 20:  # the robot's real position cannot be planned from (inscribed cell)
+                    position = last_reached
+            yaw = float(rng.uniform(-math.pi, math.pi))
+            ok, seconds, message = driver.navigate((x, y, yaw))
+            ideal = length / MAX_SPEED
+            print(f"goal {index + 1:2d}/{args.goals} ({x:5.2f}, {y:5.2f}): {'ok ' if ok else 'FAIL'} "
+                  f"{seconds:6.1f} s sim, ideal {ideal:5.1f} s, ratio {seconds / ideal:4.2f}, "
+                  f"collisions {driver.collisions - collisions0}, "
+                  f"rtf {(driver.sim_time - sim0) / (time.monotonic() - wall0):.2f}"
+                  + ("" if ok else f" - {message}"), flush=True)
+            if ok:
+                successes += 1
+                ratios.append(seconds / ideal)
+                position = last_reached = (x, y)
+            elif driver.truth is not None:  # the next ideal path starts where the robot really is
+                position = driver.truth
+            done = index + 1
+            if interrupted.is_set():
+                break
+        sim_elapsed, wall_elapsed = driver.sim_time - sim0, time.monotonic() - wall0
+        collisions = driver.collisions - collisions0
+        note = f"{done}/{args.goals} goals, seed {args.seed}, target rtf {args.rtf}"
+        bench.record_value("success rate", 100.0 * successes / max(done, 1), "%", note)
+        bench.record_value("collisions", float(collisions), "count", note)
+        if ratios:
+            bench.record_value("time-to-goal / ideal (median)", statistics.median(ratios), "x", note)
+            bench.record_value("time-to-goal / ideal (mean)", statistics.fmean(ratios), "x", note)
+        bench.record_value("sustained real-time factor", sim_elapsed / wall_elapsed, "x", note)
+        if not args.no_record:
+            bench.save()
+    finally:
+        if driver is not None:
+            driver.close()
+        bringup.send_signal(signal.SIGINT)
+        bringup.wait(timeout=60.0)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,237 @@
+"""nav-bringup: the simulator and the whole Nav2-style stack in one command (instead of the seeds' terminals).
+
+    nav-bringup [--world turtlebot3_world] [--robot waffle] [--map maps/turtlebot3_world.yaml]
+                [--params config/nav2_params.yaml] [--rtf 1.0] [--no-sim] [--single-process]
+                [--no-initial-pose] [--x -2.0 --y -0.5 --yaw 0.0]
+
+Processes, started in order by ros_tools.launch.Launcher, each waiting for the previous one's
+readiness line (all with use_sim_time true; sim2d publishes /clock):
+
+1. ``sim2d`` (python -m sim2d.ros.cli) — ready when it logs its first status line;
+2. ``localization``: map_server, amcl, lifecycle_manager_localization — ready when its manager is active;
+3. ``initial_pose`` (amcl_init_pose_publisher): publishes the seeds' initial pose until AMCL
+   confirms it, then exits (not required: its exit does not end the launch);
+4. ``navigation``: planner_server + global_costmap, controller_server + local_costmap,
+   behavior_server, bt_navigator, waypoint_follower, lifecycle_manager_navigation.
+
+Then it prints exactly ``Nav2 is ready``. A process that dies ends the launch with its exit code;
+Ctrl-C stops everything in reverse order. ``--single-process`` runs every nav node (2 and 4) in
+one process on a MultiThreadedExecutor (the simulator stays a separate process: nav_stack never
+imports sim2d). ``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
+those node processes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parents[2]
+DEFAULT_PARAMS = REPO / "config" / "nav2_params.yaml"
+READY_LINE = "Nav2 is ready"
+COMPONENT_READY = "bringup: component {name} is active"
+EXECUTOR_THREADS = 16
+COMPONENTS = ("localization", "navigation", "all")
+
+
+def _python_module(module: str, *args: str) -> list[str]:
+    return [sys.executable, "-m", module, *args]
+
+
+# ------------------------------------------------------------------ node processes
+def _localization_nodes(kwargs: dict[str, Any], map_yaml: str | None) -> list[Any]:
+    from rclpy.parameter import Parameter
+
+    from nav_stack.ros.amcl_node import AmclNode
+    from nav_stack.ros.lifecycle_manager import LifecycleManager
+    from nav_stack.ros.map_server import MapServer
+
+    overrides = [Parameter("yaml_filename", value=str(map_yaml))] if map_yaml else []
+    return [MapServer(parameter_overrides=overrides, **kwargs), AmclNode(**kwargs),
+            LifecycleManager("lifecycle_manager_localization", **kwargs)]
+
+
+def _navigation_nodes(kwargs: dict[str, Any]) -> list[Any]:
+    from nav_stack.ros import (
+        behavior_server,
+        bt_navigator,
+        controller_server,
+        planner_server,
+        waypoint_follower,
+    )
+    from nav_stack.ros.lifecycle_manager import LifecycleManager
+
+    nodes: list[Any] = []
+    for module in (planner_server, controller_server, behavior_server, bt_navigator, waypoint_follower):
+        nodes.extend(module.build_nodes(**kwargs))
+    nodes.append(LifecycleManager("lifecycle_manager_navigation", **kwargs))
+    return nodes
+
+
+def run_component(name: str, params: str, map_yaml: str | None) -> int:
+    """Build the nodes of component ``name``, spin them, print COMPONENT_READY once managers are active."""
+    import rclpy
+    from rclpy.clock import Clock, ClockType
+    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+
+    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+    from nav_stack.ros.lifecycle_manager import LifecycleManager
+
+    rclpy.init(args=["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"])
+    nodes: list[Any] = []
+    try:
+        kwargs: dict[str, Any] = {}
+        if name in ("localization", "all"):
+            nodes += _localization_nodes(kwargs, map_yaml)
+        if name in ("navigation", "all"):
+            nodes += _navigation_nodes(kwargs)
+        managers = [node for node in nodes if isinstance(node, LifecycleManager)]
+        executor = MultiThreadedExecutor(num_threads=EXECUTOR_THREADS)
+        for node in nodes:
+            executor.add_node(node)
+        announced = False
+
+        def announce() -> None:
+            nonlocal announced
+            if not announced and all(m.system_active for m in managers):
+                announced = True
+                print(COMPONENT_READY.format(name=name), flush=True)
+
+        managers[0].create_timer(0.2, announce, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        for node in nodes:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+# ------------------------------------------------------------------ launch
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="nav-bringup", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--world", default="turtlebot3_world", help="sim2d world name or YAML")
+    parser.add_argument("--robot", default="waffle", choices=("waffle", "burger"))
+    parser.add_argument("--map", default=None, help="map_server YAML (default: from --params)")
+    parser.add_argument("--params", default=str(DEFAULT_PARAMS), help="Nav2-style parameter file")
+    parser.add_argument("--rtf", default="1.0", help="sim real-time factor ('max' = fastest)")
+    parser.add_argument("--x", type=float, default=-2.0, help="spawn and initial pose x (m)")
+    parser.add_argument("--y", type=float, default=-0.5, help="spawn and initial pose y (m)")
+    parser.add_argument("--yaw", type=float, default=0.0, help="spawn and initial pose yaw (rad)")
+    parser.add_argument("--no-sim", action="store_true", help="only the stack (a sim runs elsewhere)")
+    parser.add_argument("--slam", action="store_true", help="map with SLAM instead of map_server + AMCL")
+    parser.add_argument("--single-process", action="store_true", help="all nav nodes in one process")
+    parser.add_argument("--initial-pose", dest="initial_pose", action="store_true", default=True,
+                        help="publish the initial pose until AMCL confirms it (default)")
+    parser.add_argument("--no-initial-pose", dest="initial_pose", action="store_false")
+    parser.add_argument("--headless", action="store_true", default=True, help="no GUI (the only mode)")
+    parser.add_argument("--ready-timeout", type=float, default=120.0, help="s (wall) each process may take")
+    return parser
+
+
+def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
+    if args.slam:
+        parser.error("--slam is not implemented yet: run with a map (--map) and AMCL")
+    if not Path(args.params).is_file():
+        parser.error(f"--params: no such file: {args.params}")
+    if args.map is not None and not Path(args.map).is_file():
+        parser.error(f"--map: no such file: {args.map}")
+    if args.rtf.lower() not in ("max", "inf"):
+        try:
+            if float(args.rtf) <= 0.0:
+                raise ValueError
+        except ValueError:
+            parser.error(f"--rtf must be a positive number or 'max', got {args.rtf!r}")
+
+
+def process_specs(args: argparse.Namespace) -> list[Any]:
+    """The ProcessSpecs of a launch, in start order."""
+    from ros_tools.launch import ProcessSpec
+
+    params = str(Path(args.params).resolve())
+    map_args = ["--map", str(Path(args.map).resolve())] if args.map else []
+    specs: list[ProcessSpec] = []
+    if not args.no_sim:
+        specs.append(ProcessSpec("sim2d", _python_module(
+            "sim2d.ros.cli", "--world", args.world, "--robot", args.robot, "--rtf", args.rtf,
+            "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw)),
+            ready=r"sim2d", ready_timeout=60.0))
+
+    def component(name: str) -> ProcessSpec:
+        return ProcessSpec(name if name != "all" else "nav2", _python_module(
+            "nav_stack.ros.bringup", "component", name, "--params", params, *map_args),
+            ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout)
+
+    initial_pose = ProcessSpec("initial_pose", _python_module(
+        "nav_stack.ros.initial_pose_publisher", "--ros-args", "-p", "use_sim_time:=true",
+        "-p", f"x:={args.x}", "-p", f"y:={args.y}", "-p", f"yaw:={args.yaw}"),
+        ready="AMCL confirmed the initial pose", ready_timeout=args.ready_timeout, required=False)
+    if args.single_process:
+        if args.initial_pose:
+            initial_pose.ready = None  # AMCL starts in the same process as the navigation nodes
+            specs.append(initial_pose)
+        specs.append(component("all"))
+    else:
+        specs.append(component("localization"))
+        if args.initial_pose:
+            specs.append(initial_pose)
+        specs.append(component("navigation"))
+    return specs
+
+
+def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None) -> int:
+    """Start the specs, print READY_LINE, supervise; the launch's exit code (Launcher.run semantics)."""
+    import signal
+    import threading
+
+    from ros_tools.launch import Launcher, LaunchError
+
+    launcher = Launcher(output=output)
+    interrupted = threading.Event()
+
+    def on_signal(signum: int, frame: object) -> None:
+        interrupted.set()
+        launcher.stop()
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        launcher.start(process_specs(args))
+        (output or (lambda line: print(line, flush=True)))(READY_LINE)
+        code = launcher.wait()
+    except LaunchError as error:
+        launcher.log(f"ERROR: {error}")
+        code = 1
+    finally:
+        launcher.log("shutting down")
+        launcher.shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    if interrupted.is_set():
+        return 130 if code == 0 else code
+    return code
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console entry ``nav-bringup``; ``component <name>`` runs one node process."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    if argv[:1] == ["component"]:
+        sub = argparse.ArgumentParser(prog="nav-bringup component")
+        sub.add_argument("name", choices=COMPONENTS)
+        sub.add_argument("--params", default=str(DEFAULT_PARAMS))
+        sub.add_argument("--map", default=None)
+        opts = sub.parse_args(argv[1:])
+        return run_component(opts.name, opts.params, opts.map)
+    parser = _parser()
+    args = parser.parse_args(argv)
+    _validate(args, parser)
+    return launch(args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,111 @@
+"""What the ROS-backed BT leaves share: the node, one callback group, cached clients, TF and failures.
+
+Why one callback group: rclpy registers a goal request's future only after the request has left,
+so a response handled by another executor thread in between is dropped ("unexpected goal
+response"). The bt_navigator ticks its tree from a timer in this mutually exclusive group and every
+leaf's client lives in it too, so sending and receiving never interleave.
+
+Why cached clients: a new DDS client needs discovery (hundreds of ms) before its server is seen;
+trees are rebuilt per goal, their clients are not.
+
+``failures`` keeps, per ``error_code_id`` blackboard key, the last failure a leaf saw (server,
+code, code name, message), so the navigator can put the failing server's code and message in
+its own result.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from rclpy.action import ActionClient
+from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from rclpy.client import Client
+from rclpy.node import Node
+
+from nav_stack.ros.frames import Frames
+
+
+@dataclass(frozen=True)
+class LeafFailure:
+    """The last unsuccessful outcome of one BT leaf (codes are the server's Jazzy result codes)."""
+
+    server: str
+    code: int
+    code_name: str
+    message: str
+
+    def describe(self) -> str:
+        """``planner_server 'compute_path_to_pose' failed with 206 (GOAL_OCCUPIED): <message>``."""
+        name = f" ({self.code_name})" if self.code_name else ""
+        text = f"'{self.server}' failed with error code {self.code}{name}"
+        return f"{text}: {self.message}" if self.message else text
+
+
+def code_name(result_type: Any, code: int) -> str:
+    """Name of ``code`` among the result type's uint16 constants (``GOAL_OCCUPIED``), or ''."""
+    for name in dir(result_type):
+        if name.isupper() and name != "SLOT_TYPES" and getattr(result_type, name) == code:
+            return name
+    return ""
+
+
+class BtRosContext:
+    """Collaborators injected into every ROS-backed leaf (``factory.register(..., ros=ctx)``)."""
+
+    def __init__(self, node: Node, frames: Frames | None = None, group: CallbackGroup | None = None,
+                 wall_clock: Callable[[], float] | None = None) -> None:
+        import time
+
+        self.node = node
+        self.group = group or MutuallyExclusiveCallbackGroup()
+        self.frames = frames
+        self.wall_clock = wall_clock or time.monotonic
+        self._actions: dict[tuple[type, str], ActionClient] = {}
+        self._services: dict[tuple[type, str], Client] = {}
+        self._failures: dict[str, LeafFailure] = {}
+        self._lock = threading.Lock()
+        self.global_frame = "map"
+        self.robot_base_frame = "base_link"
+        self.transform_tolerance = 0.1  # s
+
+    def action_client(self, action_type: type, name: str) -> ActionClient:
+        """The (cached) client of action ``name``."""
+        key = (action_type, name)
+        with self._lock:
+            if key not in self._actions:
+                self._actions[key] = ActionClient(self.node, action_type, name, callback_group=self.group)
+            return self._actions[key]
+
+    def service_client(self, srv_type: type, name: str) -> Client:
+        """The (cached) client of service ``name``."""
+        key = (srv_type, name)
+        with self._lock:
+            if key not in self._services:
+                self._services[key] = self.node.create_client(srv_type, name, callback_group=self.group)
+            return self._services[key]
+
+    # -- failures ------------------------------------------------------------------------------
+    def record_failure(self, key: str, failure: LeafFailure) -> None:
+        """Remember the last failure written through error-code blackboard key ``key``."""
+        self._failures[key] = failure
+
+    def failure(self, key: str) -> LeafFailure | None:
+        """The last failure recorded for ``key``."""
+        return self._failures.get(key)
+
+    def clear_failures(self) -> None:
+        """Forget all failures (at the start of each navigation)."""
+        self._failures.clear()
+
+    def destroy(self) -> None:
+        """Destroy every cached client."""
+        with self._lock:
+            for client in self._actions.values():
+                client.destroy()
+            for service in self._services.values():
+                self.node.destroy_client(service)
+            self._actions.clear()
+            self._services.clear()

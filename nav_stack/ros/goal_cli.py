@@ -1,0 +1,243 @@
+"""nav-goal: send goals to the running stack from the command line and watch them live.
+
+    nav-goal initial-pose -2.0 -0.5 0.0
+    nav-goal goto 0.0 2.0 [1.57] [--behavior-tree my_tree.xml] [--frame map]
+    nav-goal waypoints config/waypoints_example.yaml      # a list of [x, y, yaw] (or {waypoints: [...]})
+
+While a goal runs one status line shows distance remaining, ETA, recoveries and elapsed time;
+the end prints the result with its error code and message. Exit status: 0 on success, 1 on
+failure (aborted, rejected, missed waypoints, unconfirmed initial pose), 2 on bad input, 130
+after Ctrl-C (which cancels the goal first).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+SERVER_TIMEOUT = 30.0  # s (wall) to find the action server
+CANCEL_TIMEOUT = 10.0  # s (wall) to wait for the result after a cancel
+STATUS_PERIOD = 0.5  # s between status lines
+
+
+def load_waypoints(path: Path) -> list[tuple[float, float, float]]:
+    """[x, y, yaw] triples from a YAML list (or a ``waypoints:`` key); ValueError naming file and index."""
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise ValueError(f"{path}: cannot read waypoints: {error}") from error
+    if isinstance(data, dict):
+        data = data.get("waypoints")
+    if not isinstance(data, list) or not data:
+        raise ValueError(f"{path}: expected a non-empty list of [x, y, yaw] (or a 'waypoints:' key)")
+    out = []
+    for index, item in enumerate(data):
+        if not isinstance(item, list | tuple) or len(item) not in (2, 3):
+            raise ValueError(f"{path}: waypoint {index}: expected [x, y] or [x, y, yaw], got {item!r}")
+        try:
+            values = [float(v) for v in item]
+        except (TypeError, ValueError):
+            raise ValueError(f"{path}: waypoint {index}: {item!r} holds a non-number") from None
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError(f"{path}: waypoint {index}: {item!r} is not finite")
+        out.append((values[0], values[1], values[2] if len(values) == 3 else 0.0))
+    return out
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="nav-goal", description="Send goals to the navigation stack.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    pose = sub.add_parser("initial-pose", help="set AMCL's pose and wait until it is confirmed")
+    for name in ("x", "y", "yaw"):
+        pose.add_argument(name, type=float)
+    goto = sub.add_parser("goto", help="navigate_to_pose")
+    goto.add_argument("x", type=float)
+    goto.add_argument("y", type=float)
+    goto.add_argument("yaw", type=float, nargs="?", default=0.0)
+    goto.add_argument("--behavior-tree", default="", help="BT XML file (default: bt_navigator's)")
+    goto.add_argument("--frame", default="map")
+    waypoints = sub.add_parser("waypoints", help="follow_waypoints from a YAML file")
+    waypoints.add_argument("file", type=Path)
+    waypoints.add_argument("--frame", default="map")
+    return parser
+
+
+class GoalRunner:
+    """One client node; sends a goal, prints progress, cancels on Ctrl-C."""
+
+    def __init__(self) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.parameter import Parameter
+        from rclpy.signals import SignalHandlerOptions
+
+        rclpy.init(args=["nav_goal"], signal_handler_options=SignalHandlerOptions.NO)
+        self.node = rclpy.create_node("nav_goal", parameter_overrides=[Parameter("use_sim_time", value=True)])
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self._last_status = 0.0
+
+    def close(self) -> None:
+        import rclpy
+
+        self.executor.shutdown()
+        self.node.destroy_node()
+        rclpy.try_shutdown()
+
+    def spin_until(self, done: Any, timeout: float | None = None) -> bool:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while not done():
+            if deadline is not None and time.monotonic() > deadline:
+                return False
+            self.executor.spin_once(timeout_sec=0.05)
+        return True
+
+    def status(self, text: str) -> None:
+        now = time.monotonic()
+        if now - self._last_status >= STATUS_PERIOD:
+            self._last_status = now
+            print(f"\r{text:<100}", end="", flush=True)
+
+    def run_action(self, action_type: Any, name: str, goal: Any, describe: Any) -> tuple[int, Any]:
+        """Send ``goal`` to ``name``; (GoalStatus, result) or raise on no server/rejection."""
+        from rclpy.action import ActionClient
+
+        client = ActionClient(self.node, action_type, name)
+        if not self.spin_until(client.server_is_ready, SERVER_TIMEOUT):
+            raise RuntimeError(f"no '{name}' action server after {SERVER_TIMEOUT:.0f} s "
+                               "(is nav-bringup running?)")
+        started = time.monotonic()
+        sent = client.send_goal_async(
+            goal, feedback_callback=lambda msg: self.status(describe(msg.feedback, started)))
+        outcome = None
+        try:
+            if not self.spin_until(sent.done, SERVER_TIMEOUT):
+                raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
+            handle = sent.result()
+            if not handle.accepted:
+                raise RuntimeError(f"'{name}' rejected the goal")
+            outcome = handle.get_result_async()
+            self.spin_until(outcome.done)
+        except KeyboardInterrupt:
+            print("\nCtrl-C: canceling the goal...", flush=True)
+            if self.spin_until(sent.done, CANCEL_TIMEOUT) and sent.result().accepted:
+                outcome = outcome or sent.result().get_result_async()
+                sent.result().cancel_goal_async()
+                self.spin_until(outcome.done, CANCEL_TIMEOUT)
+            raise
+        print()
+        response = outcome.result()
+        return response.status, response.result
+
+
+def _pose_stamped(x: float, y: float, yaw: float, frame: str) -> Any:
+    from geometry_msgs.msg import PoseStamped
+
+    pose = PoseStamped()
+    pose.header.frame_id = frame
+    pose.pose.position.x, pose.pose.position.y = x, y
+    pose.pose.orientation.z, pose.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    return pose
+
+
+def _status_name(status: int) -> str:
+    from action_msgs.msg import GoalStatus
+
+    names = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABORTED: "ABORTED",
+             GoalStatus.STATUS_CANCELED: "CANCELED"}
+    return names.get(status, f"status {status}")
+
+
+def goto(runner: GoalRunner, args: argparse.Namespace) -> int:
+    from action_msgs.msg import GoalStatus
+    from nav2_msgs.action import NavigateToPose
+
+    goal = NavigateToPose.Goal(pose=_pose_stamped(args.x, args.y, args.yaw, args.frame),
+                               behavior_tree=args.behavior_tree)
+
+    def describe(fb: Any, started: float) -> str:
+        eta = fb.estimated_time_remaining.sec + fb.estimated_time_remaining.nanosec * 1e-9
+        nav = fb.navigation_time.sec + fb.navigation_time.nanosec * 1e-9
+        return (f"navigating: {fb.distance_remaining:5.2f} m left | ETA {eta:5.1f} s | "
+                f"recoveries {fb.number_of_recoveries} | {nav:5.1f} s sim, "
+                f"{time.monotonic() - started:5.1f} s wall")
+
+    print(f"navigate_to_pose ({args.x:.2f}, {args.y:.2f}, {args.yaw:.2f}) in '{args.frame}'", flush=True)
+    status, result = runner.run_action(NavigateToPose, "navigate_to_pose", goal, describe)
+    print(f"result: {_status_name(status)} (error_code {result.error_code})"
+          + (f": {result.error_msg}" if result.error_msg else ""))
+    return EXIT_OK if status == GoalStatus.STATUS_SUCCEEDED else EXIT_FAILED
+
+
+def waypoints(runner: GoalRunner, args: argparse.Namespace) -> int:
+    from action_msgs.msg import GoalStatus
+    from nav2_msgs.action import FollowWaypoints
+
+    points = load_waypoints(args.file)
+    goal = FollowWaypoints.Goal(poses=[_pose_stamped(x, y, yaw, args.frame) for x, y, yaw in points])
+
+    def describe(fb: Any, started: float) -> str:
+        elapsed = time.monotonic() - started
+        return f"following waypoints: at {fb.current_waypoint + 1}/{len(points)} | {elapsed:5.1f} s"
+
+    print(f"follow_waypoints: {len(points)} waypoints from {args.file}", flush=True)
+    status, result = runner.run_action(FollowWaypoints, "follow_waypoints", goal, describe)
+    missed = [f"#{m.index} (error {m.error_code})" for m in result.missed_waypoints]
+    print(f"result: {_status_name(status)} (error_code {result.error_code})"
+          + (f": {result.error_msg}" if result.error_msg else "")
+          + (f"; missed: {', '.join(missed)}" if missed else ""))
+    return EXIT_OK if status == GoalStatus.STATUS_SUCCEEDED and not missed else EXIT_FAILED
+
+
+def initial_pose(runner: GoalRunner, args: argparse.Namespace) -> int:
+    from rclpy.parameter import Parameter
+
+    from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+
+    publisher = InitialPosePublisher(parameter_overrides=[
+        Parameter("x", value=args.x), Parameter("y", value=args.y), Parameter("yaw", value=args.yaw),
+        Parameter("use_sim_time", value=True)])
+    runner.executor.add_node(publisher)
+    try:
+        runner.spin_until(lambda: publisher.done is not None)
+    finally:
+        runner.executor.remove_node(publisher)
+        publisher.destroy_node()
+    print("initial pose confirmed by AMCL" if publisher.done else "AMCL did not confirm the initial pose")
+    return EXIT_OK if publisher.done else EXIT_FAILED
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Console entry ``nav-goal``."""
+    args = _parser().parse_args(sys.argv[1:] if argv is None else argv)
+    if args.command == "waypoints":
+        try:
+            load_waypoints(args.file)
+        except ValueError as error:
+            print(f"nav-goal: error: {error}", file=sys.stderr)
+            return EXIT_USAGE
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    runner = GoalRunner()
+    try:
+        command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]
+        return command(runner, args)
+    except KeyboardInterrupt:
+        return EXIT_INTERRUPTED
+    except RuntimeError as error:
+        print(f"nav-goal: error: {error}", file=sys.stderr)
+        return EXIT_FAILED
+    finally:
+        runner.close()
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

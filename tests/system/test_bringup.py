@@ -1,0 +1,61 @@
+"""nav-bringup: its command line, the processes it starts (in order, with use_sim_time and the
+readiness lines the launcher waits for), and that it exits non-zero when the simulator dies."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import pytest
+
+from nav_stack.ros import bringup
+from tests.helpers.nav_ros_bt_stack import READY, Bringup, child_pids, cmdline, wait
+
+
+def _specs(*argv: str) -> list:
+    return bringup.process_specs(bringup._parser().parse_args(list(argv)))
+
+
+def test_default_launch_starts_sim_localization_initial_pose_then_navigation():
+    specs = _specs("--rtf", "2")
+    assert [s.name for s in specs] == ["sim2d", "localization", "initial_pose", "navigation"]
+    sim = specs[0].cmd
+    assert sim[sim.index("--rtf") + 1] == "2" and sim[sim.index("--x") + 1] == "-2.0"
+    assert specs[1].ready == "bringup: component localization is active"
+    assert specs[2].required is False and "AMCL confirmed" in specs[2].ready
+    assert "use_sim_time:=true" in specs[2].cmd
+
+
+def test_single_process_and_no_sim_variants():
+    assert [s.name for s in _specs("--single-process")] == ["sim2d", "initial_pose", "nav2"]
+    assert [s.name for s in _specs("--no-sim", "--no-initial-pose")] == ["localization", "navigation"]
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--slam"], "--slam is not implemented yet"),
+    (["--params", "/nonexistent.yaml"], "--params: no such file"),
+    (["--rtf", "fast"], "--rtf must be a positive number"),
+])
+def test_bad_options_exit_2_with_a_clear_message(argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        bringup.main(argv)
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.ros
+@pytest.mark.slow
+def test_bringup_exits_non_zero_when_the_simulator_is_killed():
+    stack = Bringup("--single-process")
+    try:
+        stack.wait_for_line(READY, timeout=240.0)
+        sims = [pid for pid in child_pids(stack.proc.pid) if "sim2d.ros.cli" in cmdline(pid)]
+        assert len(sims) == 1, [cmdline(pid) for pid in child_pids(stack.proc.pid)]
+        children = child_pids(stack.proc.pid)
+        os.kill(sims[0], signal.SIGKILL)
+        wait(lambda: stack.proc.poll() is not None, 60.0, "nav-bringup to exit")
+        assert stack.proc.returncode != 0
+        wait(lambda: any("sim2d died" in line for line in stack.lines), 10.0, "the launcher's error line")
+        assert not [pid for pid in children if os.path.exists(f"/proc/{pid}")], "orphaned child processes"
+    finally:
+        stack.stop()

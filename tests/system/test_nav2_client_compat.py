@@ -1,0 +1,181 @@
+"""A Nav2 client works unchanged: the calls nav2_simple_commander's BasicNavigator makes (Jazzy),
+over the same interfaces, against the stack started by nav-bringup.
+
+BasicNavigator is not on pip, so ``MiniNavigator`` repeats its protocol: waitUntilNav2Active polls
+``amcl/get_state`` until "active", publishes /initialpose until /amcl_pose arrives, then polls
+``bt_navigator/get_state``; tasks are judged by GoalStatus only, as BasicNavigator does.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+pytest.importorskip("nav2_msgs.action")
+
+from action_msgs.msg import GoalStatus
+from builtin_interfaces.msg import Duration
+from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
+from lifecycle_msgs.srv import GetState
+from nav2_msgs.action import (
+    BackUp,
+    ComputePathToPose,
+    FollowWaypoints,
+    NavigateThroughPoses,
+    NavigateToPose,
+    Spin,
+)
+from nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap
+from rclpy.action import ActionClient
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+from tests.helpers.ros import REPO
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+AMCL_POSE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+def _pose(x: float, y: float, yaw: float = 0.0) -> PoseStamped:
+    pose = PoseStamped()
+    pose.header.frame_id = "map"
+    pose.pose.position.x, pose.pose.position.y = x, y
+    pose.pose.orientation.z, pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return pose
+
+
+class MiniNavigator:
+    """The subset of BasicNavigator's protocol, with its action/service names."""
+
+    def __init__(self, node: Node) -> None:
+        self.node = node
+        self.clients = {name: ActionClient(node, kind, name) for name, kind in (
+            ("navigate_to_pose", NavigateToPose), ("navigate_through_poses", NavigateThroughPoses),
+            ("follow_waypoints", FollowWaypoints), ("compute_path_to_pose", ComputePathToPose),
+            ("spin", Spin), ("backup", BackUp))}
+        self.initial_pose_pub = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
+        self.amcl_poses: list[Any] = []
+        node.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self.amcl_poses.append,
+                                 AMCL_POSE_QOS)
+        self.handle: Any = None
+
+    def call(self, srv_type: Any, name: str, request: Any, timeout: float = 30.0) -> Any:
+        client = self.node.create_client(srv_type, name)
+        wait(client.service_is_ready, timeout, f"service {name}")
+        future = client.call_async(request)
+        wait(future.done, timeout, f"the answer of {name}")
+        return future.result()
+
+    def _wait_active(self, node_name: str) -> None:
+        def active() -> bool:
+            state = self.call(GetState, f"{node_name}/get_state", GetState.Request()).current_state
+            return state.label == "active"
+        wait(active, 120.0, f"{node_name} to be active")
+
+    def wait_until_nav2_active(self) -> None:
+        self._wait_active("amcl")
+        self.amcl_poses.clear()
+        deadline = time.monotonic() + 60.0
+        while not self.amcl_poses:
+            assert time.monotonic() < deadline, "no /amcl_pose after publishing /initialpose"
+            self.set_initial_pose(-2.0, -0.5)
+            time.sleep(1.0)
+        self._wait_active("bt_navigator")
+
+    def set_initial_pose(self, x: float, y: float) -> None:
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = "map"
+        msg.pose.pose = _pose(x, y).pose
+        self.initial_pose_pub.publish(msg)
+
+    def start(self, name: str, goal: Any) -> None:
+        client = self.clients[name]
+        wait(client.server_is_ready, 30.0, f"action {name}")
+        future = client.send_goal_async(goal)
+        wait(future.done, 30.0, f"{name} acknowledgement")
+        self.handle = future.result()
+        assert self.handle.accepted, f"{name} rejected the goal"
+
+    def result(self, timeout: float = 300.0) -> Any:
+        future = self.handle.get_result_async()
+        wait(future.done, timeout, "the task result")
+        return future.result()
+
+    def cancel_task(self) -> None:
+        future = self.handle.cancel_goal_async()
+        wait(future.done, 30.0, "the cancel response")
+
+
+@pytest.fixture(scope="module")
+def stack() -> Iterator[Bringup]:
+    bringup = Bringup("--no-initial-pose")
+    try:
+        bringup.wait_for_line(READY, timeout=240.0)
+        yield bringup
+    finally:
+        bringup.stop()
+
+
+@pytest.fixture
+def nav(stack, ros_context) -> Iterator[MiniNavigator]:
+    node = Node("basic_navigator", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        yield MiniNavigator(node)
+    finally:
+        print(stack.output(200))  # shown by pytest when the test fails
+        executor.shutdown()
+        node.destroy_node()
+        thread.join(timeout=5.0)
+
+
+def test_basic_navigator_session(nav):
+    nav.wait_until_nav2_active()
+
+    nav.start("compute_path_to_pose", ComputePathToPose.Goal(goal=_pose(0.55, 0.0), use_start=False))
+    path = nav.result().result.path
+    assert len(path.poses) > 10 and path.header.frame_id == "map"
+
+    nav.start("navigate_to_pose", NavigateToPose.Goal(pose=_pose(-0.55, -1.65)))
+    assert nav.result().status == GoalStatus.STATUS_SUCCEEDED
+
+    nav.start("spin", Spin.Goal(target_yaw=1.57, time_allowance=Duration(sec=10)))  # spin() defaults
+    assert nav.result().status == GoalStatus.STATUS_SUCCEEDED
+    backup = BackUp.Goal(speed=0.1, time_allowance=Duration(sec=10))  # backup(0.15, 0.1, 10) defaults
+    backup.target.x = 0.15
+    nav.start("backup", backup)
+    assert nav.result().status in (GoalStatus.STATUS_SUCCEEDED, GoalStatus.STATUS_ABORTED)
+
+    through = NavigateThroughPoses.Goal(poses=[_pose(0.55, -1.65), _pose(0.55, 0.0, 1.57)])
+    nav.start("navigate_through_poses", through)
+    assert nav.result().status == GoalStatus.STATUS_SUCCEEDED
+
+    nav.start("follow_waypoints", FollowWaypoints.Goal(poses=[_pose(0.55, 1.0), _pose(-0.55, 1.65)]))
+    result = nav.result()
+    assert result.status == GoalStatus.STATUS_SUCCEEDED and not result.result.missed_waypoints
+
+    nav.start("navigate_to_pose", NavigateToPose.Goal(pose=_pose(-2.0, -0.5)))
+    wait(lambda: nav.handle.status == GoalStatus.STATUS_EXECUTING, 30.0, "the navigation to run")
+    nav.cancel_task()
+    assert nav.result().status == GoalStatus.STATUS_CANCELED
+
+    for costmap in ("global_costmap", "local_costmap"):  # clearAllCostmaps
+        nav.call(ClearEntireCostmap, f"{costmap}/clear_entirely_{costmap}", ClearEntireCostmap.Request())
+    costmap = nav.call(GetCostmap, "global_costmap/get_costmap", GetCostmap.Request()).map  # getGlobalCostmap
+    size = costmap.metadata.size_x * costmap.metadata.size_y
+    assert size > 0 and len(costmap.data) == size
+
+    url = f"file://{REPO / 'maps' / 'turtlebot3_world.yaml'}"
+    response = nav.call(LoadMap, "map_server/load_map", LoadMap.Request(map_url=url))  # changeMap
+    assert response.result == LoadMap.Response.RESULT_SUCCESS
