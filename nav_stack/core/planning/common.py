@@ -10,8 +10,12 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D, headings_along
-from nav_stack.core.grid import GridSpec
+from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
+from nav_stack.core.planning.grid_search import SearchGraph, open_escape
+
+#: m: how far from the start a robot inside an inscribed band may plan through it to get out.
+ESCAPE_RADIUS = 0.5
 
 CostArray = npt.NDArray[np.uint8]
 
@@ -88,3 +92,23 @@ def cell_centres(spec: GridSpec, cells: list[tuple[int, int]]) -> FloatArray:
     arr = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
     x, y = spec.cell_to_world(arr[:, 0], arr[:, 1])
     return np.column_stack((x, y))
+
+
+def graph_from_start(
+    graph: SearchGraph, costs: CostArray, spec: GridSpec, start_cell: tuple[int, int], escape_cost: float
+) -> SearchGraph:
+    """The graph to search from ``start_cell``: ``graph`` itself, or a copy that lets the robot escape.
+
+    START_OCCUPIED only when the robot's cell is lethal (it is in collision). A start in the
+    inscribed band or in disallowed unknown space plans out of it (see grid_search.open_escape).
+    """
+    if graph.passable(*start_cell):
+        return graph
+    cost = int(costs[start_cell[1], start_cell[0]])
+    if cost == LETHAL_OBSTACLE:
+        raise PlanningError(
+            PlanErrorCode.START_OCCUPIED,
+            f"start cell {start_cell} is lethal (cost {cost}): the robot is in collision",
+        )
+    radius = max(1, round(ESCAPE_RADIUS / spec.resolution))
+    return open_escape(graph, costs, start_cell, radius, escape_cost)

@@ -87,6 +87,38 @@ class SearchGraph:
         return not self.blocked[self.index(mx, my)]
 
 
+def open_escape(
+    graph: SearchGraph,
+    costs: npt.NDArray[np.uint8],
+    start: tuple[int, int],
+    radius_cells: int,
+    escape_cost: float,
+) -> SearchGraph:
+    """A copy of ``graph`` in which the robot can leave the inscribed band it starts in.
+
+    A robot that ended up with its centre in the inscribed band of an obstacle (cost 253, not lethal)
+    would otherwise get START_OCCUPIED or NO_VALID_PATH and stay wedged. NavFn clears only the robot's
+    own cell, which does not help when its neighbours are inscribed too. Here the start cell and every
+    inscribed cell within ``radius_cells`` of it become passable at ``escape_cost`` (the planner's
+    highest traversal cost), so the path leaves the band the shortest way. Lethal cells stay blocked.
+    """
+    mx, my = start
+    height, width = costs.shape
+    x0, x1 = max(0, mx - radius_cells), min(width, mx + radius_cells + 1)
+    y0, y1 = max(0, my - radius_cells), min(height, my + radius_cells + 1)
+    yy, xx = np.mgrid[y0:y1, x0:x1]
+    near = (xx - mx) ** 2 + (yy - my) ** 2 <= radius_cells**2
+    escape = near & (costs[y0:y1, x0:x1] == INSCRIBED_INFLATED_OBSTACLE)
+    escape[my - y0, mx - x0] = True
+    cell_cost = list(graph.cell_cost)
+    blocked = bytearray(graph.blocked)
+    for y, x in zip(*np.nonzero(escape), strict=True):
+        index = graph.index(int(x0 + x), int(y0 + y))
+        cell_cost[index] = escape_cost
+        blocked[index] = 0
+    return SearchGraph(graph.width, graph.height, cell_cost, bytes(blocked))
+
+
 @dataclass
 class SearchResult:
     """Outcome of one search: the goal index if reached, the parent links and what was expanded."""

@@ -25,11 +25,22 @@ from nav_stack.core.planning.common import (
     build_path,
     cell_centres,
     check_costmap,
+    graph_from_start,
     locate,
     tolerance_candidates,
 )
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
-from nav_stack.core.planning.grid_search import SearchGraph, SearchTimeoutError, navfn_traversal_costs, search
+from nav_stack.core.planning.grid_search import (
+    COST_FACTOR,
+    NEUTRAL_COST,
+    SearchGraph,
+    SearchTimeoutError,
+    navfn_traversal_costs,
+    search,
+)
+
+#: NavFn's traversal cost of an inscribed cell, charged only while escaping an inscribed band.
+ESCAPE_COST = NEUTRAL_COST + COST_FACTOR * 253
 
 
 @dataclass(frozen=True)
@@ -76,12 +87,7 @@ class NavfnPlanner:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
-        graph = self._prepare(costs)
-        if not graph.passable(*start_cell):
-            raise PlanningError(
-                PlanErrorCode.START_OCCUPIED,
-                f"start cell {start_cell} has cost {costs[start_cell[1], start_cell[0]]}",
-            )
+        graph = graph_from_start(self._prepare(costs), costs, spec, start_cell, ESCAPE_COST)
         if self.params.tolerance > 0.0:
             passable = (
                 np.frombuffer(graph.blocked, dtype=np.uint8).reshape(graph.height + 2, graph.width + 2)[

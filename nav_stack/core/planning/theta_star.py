@@ -24,7 +24,14 @@ import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, MAX_NON_OBSTACLE, NO_INFORMATION, GridSpec
-from nav_stack.core.planning.common import CostArray, build_path, cell_centres, check_costmap, locate
+from nav_stack.core.planning.common import (
+    CostArray,
+    build_path,
+    cell_centres,
+    check_costmap,
+    graph_from_start,
+    locate,
+)
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
 from nav_stack.core.planning.grid_search import SearchGraph
 
@@ -106,12 +113,10 @@ class ThetaStarPlanner:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
-        graph = SearchGraph.build(theta_cell_costs(costs, self.params.allow_unknown))
-        if not graph.passable(*start_cell):
-            raise PlanningError(
-                PlanErrorCode.START_OCCUPIED,
-                f"start cell {start_cell} has cost {costs[start_cell[1], start_cell[0]]}",
-            )
+        cell_costs = theta_cell_costs(costs, self.params.allow_unknown)
+        finite = cell_costs[np.isfinite(cell_costs)]
+        escape_cost = float(finite.max()) if finite.size else 1.0
+        graph = graph_from_start(SearchGraph.build(cell_costs), costs, spec, start_cell, escape_cost)
         if not graph.passable(*goal_cell):
             raise PlanningError(
                 PlanErrorCode.GOAL_OCCUPIED,

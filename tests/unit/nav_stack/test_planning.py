@@ -256,3 +256,24 @@ def cuts_a_corner(costs: np.ndarray, cells: list[tuple[int, int]]) -> bool:
         ax != bx and ay != by and costs[ay, bx] >= 253 and costs[by, ax] >= 253
         for (ax, ay), (bx, by) in itertools.pairwise(cells)
     )
+
+
+@pytest.mark.parametrize("planner", [NavfnPlanner(NavfnParams(tolerance=0.0)), ThetaStarPlanner()],
+                         ids=["navfn", "theta_star"])
+def test_a_robot_inside_an_inscribed_band_plans_its_way_out(planner) -> None:  # type: ignore[no-untyped-def]
+    """A robot whose centre is in the inscribed band of a wall is not wedged: it plans out of the band
+    (through the fewest inscribed cells) and on to the goal; only a lethal start is START_OCCUPIED."""
+    spec = GridSpec(40, 40, 0.05)
+    costs = np.zeros(spec.shape, np.uint8)
+    costs[:, 18:22] = 253  # inscribed band on both sides of ...
+    costs[:, 20] = LETHAL_OBSTACLE  # ... a wall at x = 20 with a gap at the bottom
+    costs[0:3, 17:23] = 0
+    start_cell, goal_cell = (18, 30), (5, 30)
+    path = planner.create_plan(centre(spec, *start_cell), centre(spec, *goal_cell), costs, spec)
+    cells = path_cells(spec, path)
+    assert cells[0] == start_cell and cells[-1] == goal_cell
+    assert all(costs[my, mx] < LETHAL_OBSTACLE for mx, my in cells)
+    assert sum(costs[my, mx] == 253 for mx, my in cells) <= 3  # leaves the band at once
+    with pytest.raises(PlanningError) as error:
+        planner.create_plan(centre(spec, 20, 30), centre(spec, *goal_cell), costs, spec)
+    assert error.value.code == PlanErrorCode.START_OCCUPIED and "lethal" in str(error.value)
