@@ -124,7 +124,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--y", type=float, default=-0.5, help="spawn and initial pose y (m)")
     parser.add_argument("--yaw", type=float, default=0.0, help="spawn and initial pose yaw (rad)")
     parser.add_argument("--no-sim", action="store_true", help="only the stack (a sim runs elsewhere)")
-    parser.add_argument("--slam", action="store_true", help="map with SLAM instead of map_server + AMCL")
+    parser.add_argument("--slam", action="store_true",
+                        help="map with SLAM (slam + map_saver) instead of map_server + AMCL")
     parser.add_argument("--single-process", action="store_true", help="all nav nodes in one process")
     parser.add_argument("--initial-pose", dest="initial_pose", action="store_true", default=True,
                         help="publish the initial pose until AMCL confirms it (default)")
@@ -135,8 +136,10 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
-    if args.slam:
-        parser.error("--slam is not implemented yet: run with a map (--map) and AMCL")
+    if args.slam and args.map is not None:
+        parser.error("--slam builds its own map: drop --map (or drop --slam to localize on a map)")
+    if args.slam and args.single_process:
+        parser.error("--slam runs as separate processes: drop --single-process")
     if not Path(args.params).is_file():
         parser.error(f"--params: no such file: {args.params}")
     if args.map is not None and not Path(args.map).is_file():
@@ -171,7 +174,13 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
         "nav_stack.ros.initial_pose_publisher", "--ros-args", "-p", "use_sim_time:=true",
         "-p", f"x:={args.x}", "-p", f"y:={args.y}", "-p", f"yaw:={args.yaw}"),
         ready="AMCL confirmed the initial pose", ready_timeout=args.ready_timeout, required=False)
-    if args.single_process:
+    if args.slam:  # Nav2's "navigation with SLAM": slam + map_saver instead of map_server + amcl
+        from nav_stack.ros.slam_bringup import slam_processes
+
+        start = f"map_start_pose:=[{args.x}, {args.y}, {args.yaw}]"  # SLAM's map frame = the world's
+        specs.extend(slam_processes(params, extra_ros_args=["-p", start], ready_timeout=args.ready_timeout))
+        specs.append(component("navigation"))
+    elif args.single_process:
         if args.initial_pose:
             initial_pose.ready = None  # AMCL starts in the same process as the navigation nodes
             specs.append(initial_pose)

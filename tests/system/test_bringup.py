@@ -26,13 +26,20 @@ def test_default_launch_starts_sim_localization_initial_pose_then_navigation():
     assert "use_sim_time:=true" in specs[2].cmd
 
 
+def test_slam_mode_runs_slam_and_map_saver_instead_of_map_server_and_amcl():
+    specs = _specs("--slam", "--x", "-2.0", "--y", "-0.5")
+    assert [s.name for s in specs] == ["sim2d", "slam", "map_saver", "lifecycle_manager_slam", "navigation"]
+    assert "map_start_pose:=[-2.0, -0.5, 0.0]" in specs[1].cmd
+
+
 def test_single_process_and_no_sim_variants():
     assert [s.name for s in _specs("--single-process")] == ["sim2d", "initial_pose", "nav2"]
     assert [s.name for s in _specs("--no-sim", "--no-initial-pose")] == ["localization", "navigation"]
 
 
 @pytest.mark.parametrize(("argv", "message"), [
-    (["--slam"], "--slam is not implemented yet"),
+    (["--slam", "--map", "maps/turtlebot3_world.yaml"], "--slam builds its own map"),
+    (["--slam", "--single-process"], "--slam runs as separate processes"),
     (["--params", "/nonexistent.yaml"], "--params: no such file"),
     (["--rtf", "fast"], "--rtf must be a positive number"),
 ])

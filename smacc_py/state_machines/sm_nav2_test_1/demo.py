@@ -10,20 +10,27 @@ Examples::
 
     navsuite-demo --rtf 5
     navsuite-demo --waypoint1 5.0,3.0,1.57      # outside the map: ABORT, and the output says why
+
+The run is recorded (the report's topics only) and, after shutdown, turned into a run report PNG
+(map, true and AMCL trajectories, plans, goals, collisions, state-machine timeline, localization
+error) whose path is printed: artifacts/demo_report.png by default, ``--no-report`` to skip.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import shlex
 import shutil
 import signal
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+
+from ros_tools.launch import ProcessSpec
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
@@ -54,6 +61,32 @@ def bringup_command(rtf: float, custom: str | None = None) -> list[str]:
     return [*base, "--rtf", f"{rtf:g}"]
 
 
+REPORT_DEFAULT = Path("artifacts") / "demo_report.png"
+#: What the run report draws: map, true and estimated trajectories, plans, goals, collisions, transitions.
+REPORT_TOPICS = ("/map", "/ground_truth", "/amcl_pose", "/plan", "/goal_pose", "/sim2d/collisions",
+                 "/SmNav2Test1/smacc/transition_log")
+
+
+def recorder_spec(report: Path) -> ProcessSpec:
+    """A navsuite-bag recorder of the report's topics, writing ``<report>.mcap`` (stopped by SIGINT)."""
+    pattern = "^(" + "|".join(re.escape(topic) for topic in REPORT_TOPICS) + ")$"
+    return ProcessSpec("record", [sys.executable, "-m", "ros_tools.bag.main", "record", "-e", pattern,
+                                  "--use-sim-time", "-o", str(report.with_suffix(".mcap"))],
+                       required=False)
+
+
+def write_run_report(report: Path, say: Callable[[str], None]) -> None:
+    """Turn the run's recording into the report PNG and print where it is."""
+    from ros_tools.report.render import write_report
+
+    try:
+        path = write_report(report.with_suffix(".mcap"), report)
+    except Exception as error:  # a report must never turn a finished mission into a failure
+        say(f"[demo] no run report: {error}")
+        return
+    say(f"[demo] run report: {path}")
+
+
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="navsuite-demo", description=__doc__.splitlines()[0])
     parser.add_argument("--rtf", type=float, default=1.0, help="real-time factor of the simulation")
@@ -71,6 +104,10 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     )
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
     parser.add_argument("--quiet", action="store_true", help="hide the stack's output (shown if it fails)")
+    parser.add_argument("--report", type=Path, default=REPORT_DEFAULT,
+                        help=f"run report PNG, from a recording next to it (default {REPORT_DEFAULT})")
+    parser.add_argument("--no-report", dest="report", action="store_const", const=None,
+                        help="neither record the run nor write a report")
     options = parser.parse_args(argv)
     if not options.rtf > 0.0:
         parser.error(f"--rtf must be > 0, got {options.rtf}")
@@ -99,7 +136,7 @@ class _Output:
 
 def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
-    from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+    from ros_tools.launch import Launcher, LaunchError
 
     out = _Output(options.quiet)
     launcher = Launcher(output=out.stack)
@@ -132,11 +169,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
         from smacc_py.state_machines.sm_nav2_test_1.mission import run_mission
 
+        if options.report is not None:
+            options.report.parent.mkdir(parents=True, exist_ok=True)
+            launcher.start([recorder_spec(options.report)])
         return run_mission(options, launcher, out.say, interrupted, wall_start)
     finally:
-        launcher.shutdown()
+        launcher.shutdown()  # SIGINT first: the recorder closes its file
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+        if options.report is not None and options.report.with_suffix(".mcap").exists():
+            write_run_report(options.report, out.say)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,58 @@
+"""Nav2's "navigation with SLAM" workflow: `nav-bringup --slam` runs SLAM instead of map_server + AMCL,
+publishes a growing /map in the world's frame, and NavigateToPose succeeds on it."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from tests.helpers.nav_ros_bt_stack import READY, Bringup
+from tests.helpers.ros import spin_until
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+
+
+def test_slam_bringup_maps_and_navigates_on_the_growing_map(ros_context):
+    import rclpy
+    from action_msgs.msg import GoalStatus
+    from nav2_msgs.action import NavigateToPose
+    from nav_msgs.msg import OccupancyGrid, Odometry
+    from rclpy.action import ActionClient
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    stack = Bringup("--slam")
+    node = rclpy.create_node("slam_bringup_probe", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    try:
+        stack.wait_for_line(READY, timeout=240.0)
+        maps: list[OccupancyGrid] = []
+        truth: list[Odometry] = []
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        node.create_subscription(OccupancyGrid, "/map", maps.append, latched)
+        node.create_subscription(Odometry, "/ground_truth", truth.append, 10)
+        spin_until(executor, lambda: bool(maps) and bool(truth), 60.0, "/map from SLAM and ground truth")
+        first = maps[-1]
+        assert sum(1 for v in first.data if v == 100) > 20, "the first SLAM map shows no walls"
+
+        client = ActionClient(node, NavigateToPose, "navigate_to_pose")
+        spin_until(executor, client.server_is_ready, 60.0, "navigate_to_pose")
+        goal = NavigateToPose.Goal()
+        goal.pose.header.frame_id = "map"
+        goal.pose.pose.position.x, goal.pose.pose.position.y = -1.4, -0.5
+        goal.pose.pose.orientation.w = 1.0
+        sent = client.send_goal_async(goal)
+        spin_until(executor, sent.done, 30.0, "goal acceptance")
+        result = sent.result().get_result_async()
+        spin_until(executor, result.done, 240.0, "the navigation result")
+        assert result.result().status == GoalStatus.STATUS_SUCCEEDED, stack.output()
+        pose = truth[-1].pose.pose.position
+        assert math.hypot(pose.x + 1.4, pose.y + 0.5) < 0.3
+        assert len(maps) >= 1 and maps[-1].header.frame_id == "map"
+    finally:
+        node.destroy_node()
+        executor.shutdown()
+        assert stack.stop() is not None
