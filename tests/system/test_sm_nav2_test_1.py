@@ -5,6 +5,7 @@ Slow: it starts the whole simulator and navigation stack. Skipped until nav_stac
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -17,7 +18,8 @@ from tests.helpers.ros import REPO
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
-RTF = "5"
+# The whole Python stack keeps up with about 1-2x real time on two cores (see README).
+RTF = os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0")
 
 
 def _demo(*args: str, timeout: float = 900.0) -> subprocess.CompletedProcess[str]:
@@ -41,6 +43,7 @@ def _transitions(stdout: str) -> list[str]:
     ]
 
 
+@pytest.mark.timeout(900)
 def test_demo_completes_the_mission_through_success() -> None:
     done = _demo("--timeout", "600")
     assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
@@ -48,6 +51,7 @@ def test_demo_completes_the_mission_through_success() -> None:
     assert "result: SUCCESS" in done.stdout
 
 
+@pytest.mark.timeout(900)
 def test_waypoint_outside_the_map_aborts_and_says_why() -> None:
     done = _demo("--timeout", "600", "--waypoint1", "5.0,3.0,1.57")
     assert done.returncode == 1, done.stdout[-5000:] + done.stderr[-2000:]
