@@ -28,60 +28,62 @@ from nav_stack.ros.conversions import duration_msg
 RECOVERIES_KEY = "number_recoveries"
 
 
-class ComputePathToPoseAction(BtActionNode):
+class _PlanAction(BtActionNode):
+    """A planner_server leaf: plan from the robot (or ``start``) to its targets; writes ``path``.
+
+    Subclasses name the action, the targets' port and the goal field it fills.
+    """
+
+    targets_port = ""
+    targets_description = ""
+
+    @classmethod
+    def provided_ports(cls) -> PortList:
+        return (*super().provided_ports(),
+                input_port(cls.targets_port, object, "{" + cls.targets_port + "}", cls.targets_description),
+                input_port("start", object, description="start pose; the robot pose when not set"),
+                input_port("planner_id", str, "", "planner plugin id"),
+                output_port("path", object, description="the plan (nav_msgs/Path)"))
+
+    def set_targets(self, goal: Any, targets: Any) -> None:
+        raise NotImplementedError
+
+    def make_goal(self) -> Any:
+        goal = self.action_type.Goal()
+        self.set_targets(goal, self.get_input(self.targets_port))
+        goal.planner_id = str(self.get_input("planner_id"))
+        start = self.get_input_or("start", None)
+        if start is not None:
+            goal.start, goal.use_start = start, True
+        return goal
+
+    def on_success(self, result: Any) -> NodeStatus:
+        self.set_output("path", result.path)
+        return NodeStatus.SUCCESS
+
+
+class ComputePathToPoseAction(_PlanAction):
     """Plan from the robot (or ``start``) to ``goal``; writes ``path``."""
 
     action_type = ComputePathToPose
     default_server_name = "compute_path_to_pose"
+    targets_port = "goal"
+    targets_description = "destination (geometry_msgs/PoseStamped)"
 
-    @classmethod
-    def provided_ports(cls) -> PortList:
-        return (*super().provided_ports(),
-                input_port("goal", object, "{goal}", "destination (geometry_msgs/PoseStamped)"),
-                input_port("start", object, description="start pose; the robot pose when not set"),
-                input_port("planner_id", str, "", "planner plugin id"),
-                output_port("path", object, description="the plan (nav_msgs/Path)"))
-
-    def make_goal(self) -> Any:
-        goal = ComputePathToPose.Goal()
-        goal.goal = self.get_input("goal")
-        goal.planner_id = str(self.get_input("planner_id"))
-        start = self.get_input_or("start", None)
-        if start is not None:
-            goal.start, goal.use_start = start, True
-        return goal
-
-    def on_success(self, result: Any) -> NodeStatus:
-        self.set_output("path", result.path)
-        return NodeStatus.SUCCESS
+    def set_targets(self, goal: Any, targets: Any) -> None:
+        goal.goal = targets
 
 
-class ComputePathThroughPosesAction(BtActionNode):
+class ComputePathThroughPosesAction(_PlanAction):
     """Plan through ``goals`` in order; writes ``path``."""
 
     action_type = ComputePathThroughPoses
     default_server_name = "compute_path_through_poses"
+    targets_port = "goals"
+    targets_description = "poses to pass through (PoseStamped list)"
 
-    @classmethod
-    def provided_ports(cls) -> PortList:
-        return (*super().provided_ports(),
-                input_port("goals", object, "{goals}", "poses to pass through (PoseStamped list)"),
-                input_port("start", object, description="start pose; the robot pose when not set"),
-                input_port("planner_id", str, "", "planner plugin id"),
-                output_port("path", object, description="the plan (nav_msgs/Path)"))
-
-    def make_goal(self) -> Any:
-        goal = ComputePathThroughPoses.Goal()
-        goal.goals = list(self.get_input("goals"))
-        goal.planner_id = str(self.get_input("planner_id"))
-        start = self.get_input_or("start", None)
-        if start is not None:
-            goal.start, goal.use_start = start, True
-        return goal
-
-    def on_success(self, result: Any) -> NodeStatus:
-        self.set_output("path", result.path)
-        return NodeStatus.SUCCESS
+    def set_targets(self, goal: Any, targets: Any) -> None:
+        goal.goals = list(targets)
 
 
 class FollowPathAction(BtActionNode):
