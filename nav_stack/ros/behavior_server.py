@@ -198,6 +198,8 @@ class BehaviorServer(NavLifecycleNode):
                 if self._current is not None:
                     self._current.finish(Outcome.ABORTED, 0, f"preempted by a new {kind} goal")
                 self._current = run
+                if self._active:
+                    self._timer.reset()  # the cycle sleeps while no goal runs
             self.get_logger().info(f"running {kind}")
         result = run.wait(self.context)
         return result
@@ -216,6 +218,7 @@ class BehaviorServer(NavLifecycleNode):
             run = self._current
             if run is None or run.finished:
                 self._current = None
+                self._timer.cancel()  # idle: no wake-ups until the next goal resets it
                 return
             if run.stop_requested:
                 if run.handle.is_cancel_requested:

@@ -80,6 +80,7 @@ def run_component(name: str, params: str, map_yaml: str | None) -> int:
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from nav_stack.ros.lifecycle_manager import LifecycleManager
+    from ros_tools.shared_clock import share_sim_time
 
     rclpy.init(args=["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"])
     nodes: list[Any] = []
@@ -90,6 +91,7 @@ def run_component(name: str, params: str, map_yaml: str | None) -> int:
         if name in ("navigation", "all"):
             nodes += _navigation_nodes(kwargs)
         managers = [node for node in nodes if isinstance(node, LifecycleManager)]
+        share_sim_time(nodes)
         executor = MultiThreadedExecutor(num_threads=EXECUTOR_THREADS)
         for node in nodes:
             executor.add_node(node)

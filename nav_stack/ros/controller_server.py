@@ -190,6 +190,8 @@ class ControllerServer(NavLifecycleNode):
                 for plugin in (controller, checker, progress):
                     plugin.reset()
             self._current = run
+            if self._active:
+                self._timer.reset()  # the cycle sleeps while no goal runs
         self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
                                + (" (path updated)" if seamless else ""))
         return run.wait(self.context)
@@ -218,6 +220,7 @@ class ControllerServer(NavLifecycleNode):
             run = self._current
             if run is None or run.finished:
                 self._current = None
+                self._timer.cancel()  # idle: no wake-ups until the next goal resets it
                 return
             if run.stop_requested:
                 if run.handle.is_cancel_requested:

@@ -27,11 +27,11 @@ def pose_of(transform: Transform) -> Pose2D:
 
 
 class Frames:
-    """A TF listener plus the planar lookups the servers need."""
+    """A TF listener (one per process, shared by its servers) plus the planar lookups they need."""
 
     def __init__(self, node: Node, robot_base_frame: str = "base_link") -> None:
         self.robot_base_frame = robot_base_frame
-        self.listener = TransformListener(node)
+        self.listener = TransformListener.shared(node)
 
     def frame_pose(self, target: str, source: str) -> Pose2D:
         """Latest pose of frame ``source`` in frame ``target``; FrameError when TF cannot tell."""

@@ -20,6 +20,7 @@ def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None 
     from rclpy.lifecycle import LifecycleNode
 
     import nav_stack.ros  # noqa: F401 - sets the LOCALHOST discovery default
+    from ros_tools.shared_clock import share_sim_time
 
     args = list(sys.argv if argv is None else argv)
     autostart = "--autostart" in args
@@ -27,6 +28,7 @@ def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None 
     nodes: Sequence[object] = []
     try:
         nodes = build_nodes()
+        share_sim_time(nodes)
         executor = MultiThreadedExecutor(num_threads=EXECUTOR_THREADS)
         for node in nodes:
             executor.add_node(node)  # type: ignore[arg-type]
