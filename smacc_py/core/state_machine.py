@@ -11,6 +11,9 @@ states, or the remembered leaf for ``History``). Self-transitions exit and re-en
 Events posted by behaviors, reactors and generators carry the sequence number of the state instance
 that owns them (CURRENT_STATE lifetime) and are dropped once that instance has begun to exit.
 
+Read-only lookups (active states, orthogonals, clients, components, blackboard reads, ``describe``)
+live in the ``StateMachineQueries`` mixin (``state_machine_queries.py``), which this class inherits.
+
 Two ways to run it: synchronously (``start()``, ``post_event()``, ``process_events()``: no threads, for
 unit tests) or with a worker thread (``start(threaded=True)``) for the ROS runtime, which also calls
 ``update()`` at ``signal_detector_loop_freq`` and may inject a clock (``now``) so sim time works.
@@ -25,11 +28,9 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any, ClassVar, TypeVar
 
-from smacc_py.core.client import ISmaccClient, missing
 from smacc_py.core.errors import InvalidDefinitionError, SmaccError
 from smacc_py.core.events import SmaccEvent
-from smacc_py.core.global_data import MISSING, GlobalData
-from smacc_py.core.introspection import StateMachineDescription, describe_model
+from smacc_py.core.global_data import GlobalData
 from smacc_py.core.lifecycle import enter_state, exit_state
 from smacc_py.core.model import MachineModel, TransitionPlan, compile_model
 from smacc_py.core.observer import SmaccObserver, TransitionRecord
@@ -37,13 +38,14 @@ from smacc_py.core.orthogonal import Orthogonal
 from smacc_py.core.params import SmaccEngineParams
 from smacc_py.core.reactors import StateReactor
 from smacc_py.core.state import SmaccState
+from smacc_py.core.state_machine_queries import StateMachineQueries
 from smacc_py.core.updatable import ISmaccUpdatable
 
 _log = logging.getLogger("smacc_py")
 C = TypeVar("C")
 
 
-class SmaccStateMachineBase:
+class SmaccStateMachineBase(StateMachineQueries):
     """Base of every machine: set ``initial_state`` and create orthogonals in ``on_initialize``."""
 
     _is_smacc_state_machine: ClassVar[bool] = True
@@ -108,16 +110,6 @@ class SmaccStateMachineBase:
         self._orthogonal_list.append(orthogonal)
         orthogonal.on_initialize()
         return orthogonal
-
-    @property
-    def is_initialized(self) -> bool:
-        """True once ``initialize()`` has run."""
-        return self._initialized
-
-    @property
-    def is_running(self) -> bool:
-        """True between ``start()`` and ``stop()``."""
-        return self._running
 
     def initialize(self) -> None:
         """Create orthogonals, clients and components and check that every configured orthogonal exists."""
@@ -363,66 +355,7 @@ class SmaccStateMachineBase:
         if self._observers:
             self._notify("on_event_dropped", event)
 
-    # ------------------------------------------------------------------ queries
-    @property
-    def current_state(self) -> SmaccState | None:
-        """The innermost active state instance."""
-        stack = self._stack
-        return stack[-1] if stack else None
-
-    def active_states(self) -> list[SmaccState]:
-        """Active state instances, outermost first."""
-        return list(self._stack)
-
-    def current_state_names(self) -> list[str]:
-        """Active state names outermost first (``SmaccStatus.current_states``)."""
-        return [type(s).__name__ for s in self._stack]
-
-    def _leaf_name(self) -> str:
-        return type(self._stack[-1]).__name__ if self._stack else "<no state>"
-
-    def get_orthogonal(self, orthogonal_type: type[C]) -> C:
-        """The orthogonal of that type; SmaccLookupError when the machine did not create it."""
-        for orthogonal in self._orthogonal_list:
-            if type(orthogonal) is orthogonal_type:
-                return orthogonal
-        raise missing("orthogonal", orthogonal_type, self.name, "the machine")
-
-    @property
-    def orthogonals(self) -> list[Orthogonal]:
-        """Orthogonals in creation order."""
-        return list(self._orthogonal_list)
-
-    def requires_client(self, client_type: type[C], who: str | None = None) -> C:
-        """The first client of that type on any orthogonal; SmaccLookupError naming ``who`` when absent."""
-        for orthogonal in self._orthogonal_list:
-            found = orthogonal.get_client(client_type)
-            if found is not None:
-                return found
-        raise missing("client", client_type, who or self.name, "any orthogonal")
-
-    def requires_component(self, component_type: type[C], who: str | None = None) -> C:
-        """The first component of that type on any client; SmaccLookupError naming ``who`` when absent."""
-        for orthogonal in self._orthogonal_list:
-            for client in orthogonal.clients:
-                found = client.get_component(component_type)
-                if found is not None:
-                    return found
-        raise missing("component", component_type, who or self.name, "any client")
-
-    def clients(self) -> list[ISmaccClient]:
-        """Every client, in orthogonal creation order."""
-        return [c for o in self._orthogonal_list for c in o.clients]
-
+    # ------------------------------------------------------------------ blackboard
     def set_global_sm_data(self, name: str, value: Any) -> None:
         """Store a named value on the machine's blackboard."""
         self.global_data.set(name, value)
-
-    def get_global_sm_data(self, name: str, default: Any = MISSING) -> Any:
-        """Read a named value; ``default`` when given and absent, else SmaccLookupError."""
-        return self.global_data.get(name, default)
-
-    def describe(self) -> StateMachineDescription:
-        """Static description plus the client names of every orthogonal (after ``initialize()``)."""
-        clients = {type(o).__name__: [type(c).__name__ for c in o.clients] for o in self._orthogonal_list}
-        return describe_model(self.model, self.name, clients)
