@@ -32,18 +32,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 import time
 from typing import Any
 
 import numpy as np
-import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.msg import Particle, ParticleCloud
 from nav2_msgs.srv import SetInitialPose
 from nav_msgs.msg import OccupancyGrid
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.time import Time
 from sensor_msgs.msg import LaserScan as LaserScanMsg
@@ -53,6 +50,7 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.localization import Amcl, AmclParams, map_to_odom
 from nav_stack.ros.conversions import grid_from_occupancy, pose_from_2d, pose_to_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
@@ -60,7 +58,7 @@ from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_s
 from ros_tools.tf.transform import Transform
 
 NODE_NAME = "amcl"
-SCAN_TF_WAIT = 0.2  # wall s a scan may wait for odometry at its stamp
+SCAN_TF_WAIT = 1.0  # wall s a scan may wait for odometry at its stamp (a loaded process lags on /tf)
 PENDING_POLL_PERIOD = 0.01  # wall s
 TF_REPUBLISH_PERIOD = 0.1  # wall s
 WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
@@ -380,18 +378,10 @@ class AmclNode(NavLifecycleNode):
         return response
 
 
-def main(argv: list[str] | None = None) -> None:
+def main(argv: list[str] | None = None) -> int:
     """Run the node (``--ros-args --params-file config/nav2_params.yaml``); a lifecycle manager starts it."""
-    rclpy.init(args=sys.argv if argv is None else argv)
-    node = AmclNode()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    return run_nodes(lambda: [AmclNode()], argv)
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

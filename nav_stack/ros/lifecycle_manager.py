@@ -27,12 +27,10 @@ waits use one-shot timers, so any executor works (single- or multi-threaded).
 
 from __future__ import annotations
 
-import sys
 import time
 from dataclasses import dataclass
 from typing import Any
 
-import rclpy
 from bond.msg import Status
 from lifecycle_msgs.msg import State, Transition
 from lifecycle_msgs.srv import ChangeState, GetState
@@ -40,13 +38,13 @@ from nav2_msgs.srv import ManageLifecycleNodes
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.client import Client
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.task import Future
 from rclpy.timer import Timer
 from std_srvs.srv import Trigger
 
 from nav_stack.ros.lifecycle import BOND_QOS, BOND_TOPIC
+from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 
 BOND_CHECK_PERIOD = 0.2  # s, Nav2's bond timer
@@ -359,18 +357,10 @@ class LifecycleManager(Node):
         await self.startup()
 
 
-def main(argv: list[str] | None = None) -> None:
+def main(argv: list[str] | None = None) -> int:
     """Run one manager: ``--ros-args -r __node:=lifecycle_manager_localization --params-file ...``."""
-    rclpy.init(args=sys.argv if argv is None else argv)
-    node = LifecycleManager()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    return run_nodes(lambda: [LifecycleManager()], argv)
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

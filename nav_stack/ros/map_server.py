@@ -17,22 +17,20 @@ Services (answered only while active, like Nav2):
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from urllib.parse import unquote, urlparse
 
-import rclpy
 from lifecycle_msgs.msg import State
 from nav2_msgs.srv import LoadMap
 from nav_msgs.msg import OccupancyGrid
 from nav_msgs.srv import GetMap
-from rclpy.executors import ExternalShutdownException
 from rclpy.publisher import Publisher
 from rclpy.service import Service
 
 from nav_stack.core.map_io import LoadMapResult, MapLoadError, OccupancyMap, load_map
 from nav_stack.ros.conversions import occupancy_msg
 from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
 
@@ -147,18 +145,10 @@ class MapServer(NavLifecycleNode):
         return response
 
 
-def main(argv: list[str] | None = None) -> None:
+def main(argv: list[str] | None = None) -> int:
     """Run the node; configure it with ``-p yaml_filename:=...`` and a lifecycle manager."""
-    rclpy.init(args=sys.argv if argv is None else argv)
-    node = MapServer()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    return run_nodes(lambda: [MapServer()], argv)
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
