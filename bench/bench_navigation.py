@@ -56,6 +56,21 @@ def free_poses(min_clearance: float) -> np.ndarray:
     return np.column_stack((xs, ys))
 
 
+def endless_battery_params() -> Path:
+    """config/sim2d.yaml with the battery drain off: 50 goals drive ~60 m, which empties sim2d's battery
+    (2 % per metre) and the robot would stop obeying cmd_vel halfway through the benchmark."""
+    import tempfile
+
+    import yaml
+
+    params = yaml.safe_load((REPO / "config" / "sim2d.yaml").read_text())
+    battery = params["sim2d"]["ros__parameters"].setdefault("battery", {})
+    battery["drain_per_meter"] = battery["drain_per_second"] = 0.0
+    path = Path(tempfile.mkdtemp(prefix="bench_navigation_")) / "sim2d.yaml"
+    path.write_text(yaml.safe_dump(params))
+    return path
+
+
 class Driver:
     """Client node: plans, navigates, counts collisions, reads /clock."""
 
@@ -175,7 +190,9 @@ def main() -> int:
     os.environ.setdefault("ROS_DOMAIN_ID", str(101 + os.getpid() % 100))
     rng = np.random.default_rng(args.seed)
     candidates = free_poses(MIN_CLEARANCE)
-    bringup = subprocess.Popen([sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", args.rtf], cwd=REPO,
+    sim_params = endless_battery_params()
+    bringup = subprocess.Popen([sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", args.rtf,
+                                "--sim-params", str(sim_params)], cwd=REPO,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     ready = threading.Event()
     threading.Thread(target=_watch, args=(bringup, ready), daemon=True).start()

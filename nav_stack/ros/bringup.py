@@ -121,6 +121,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--robot", default="waffle", choices=("waffle", "burger"))
     parser.add_argument("--map", default=None, help="map_server YAML (default: from --params)")
     parser.add_argument("--params", default=str(DEFAULT_PARAMS), help="Nav2-style parameter file")
+    parser.add_argument("--sim-params", default=None,
+                        help="sim2d parameter file (default: sim2d's config/sim2d.yaml)")
     parser.add_argument("--rtf", default="1.0", help="sim real-time factor ('max' = fastest)")
     parser.add_argument("--x", type=float, default=-2.0, help="spawn and initial pose x (m)")
     parser.add_argument("--y", type=float, default=-0.5, help="spawn and initial pose y (m)")
@@ -146,6 +148,8 @@ def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None
         parser.error(f"--params: no such file: {args.params}")
     if args.map is not None and not Path(args.map).is_file():
         parser.error(f"--map: no such file: {args.map}")
+    if args.sim_params is not None and not Path(args.sim_params).is_file():
+        parser.error(f"--sim-params: no such file: {args.sim_params}")
     if args.rtf.lower() not in ("max", "inf"):
         try:
             if float(args.rtf) <= 0.0:
@@ -164,7 +168,8 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     if not args.no_sim:
         specs.append(ProcessSpec("sim2d", _python_module(
             "sim2d.ros.cli", "--world", args.world, "--robot", args.robot, "--rtf", args.rtf,
-            "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw)),
+            "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw),
+            *(["--params-file", str(Path(args.sim_params).resolve())] if args.sim_params else [])),
             ready=r"sim2d", ready_timeout=60.0))
 
     def component(name: str) -> ProcessSpec:

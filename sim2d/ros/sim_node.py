@@ -82,6 +82,7 @@ class Sim2dNode(Node):
         self._due = dict.fromkeys(self._periods, 0)
         self._publish_due()
         wall = Clock(clock_type=ClockType.STEADY_TIME)
+        self._battery_was_empty = False
         self._anchor = (time.monotonic(), self.sim.time_ns)
         self._rtf_window = (time.monotonic(), self.sim.time_ns)
         self._last_log = time.monotonic()
@@ -162,10 +163,21 @@ class Sim2dNode(Node):
         if now >= due["battery"]:
             self.pub_battery.publish(messages.battery_state(now, sim.battery))
             due["battery"] = self._next_due(due["battery"], self._periods["battery"], now)
+            self._warn_if_battery_empty(sim.battery.empty)
         if sim.collision_events:
             for event in sim.pop_collision_events():
                 self.pub_collision.publish(messages.collision_point(event.time_ns, event.x, event.y))
             self.pub_collision_count.publish(UInt32(data=sim.collision_count))
+
+    def _warn_if_battery_empty(self, empty: bool) -> None:
+        """Say once why the robot stopped obeying cmd_vel; say again after a recharge empties it again."""
+        if empty and not self._battery_was_empty:
+            p = self.sim.battery.params
+            self.get_logger().warn(
+                f"battery empty at sim time {self.sim.time:.1f} s: the robot ignores cmd_vel until it is "
+                f"recharged within {p.station_radius} m of the station ({p.station_x}, {p.station_y}); "
+                "set battery.drain_per_meter and battery.drain_per_second to 0 to drive forever")
+        self._battery_was_empty = empty
 
     @staticmethod
     def _next_due(due: int, period: int, now: int) -> int:
