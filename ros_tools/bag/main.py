@@ -5,10 +5,12 @@
     navsuite-bag info run.mcap
     navsuite-bag play run.mcap --rate 2 --clock 100 --loop
     navsuite-bag report run.mcap -o run.png
+    navsuite-bag foxglove -a --port 8765        # live in Foxglove: open ws://127.0.0.1:8765
 
-User errors (unknown topic, unreadable or malformed file, bad option values) print one line on
-stderr and exit with 1; Ctrl-C or SIGTERM ends record and play cleanly (the file is closed with
-its summary) and exits with 0.
+User errors (unknown topic, unreadable or malformed file, bad option values, port in use) print
+one line on stderr and exit with 1; a missing optional package (``foxglove-sdk``) exits with 2;
+Ctrl-C or SIGTERM ends record, play and foxglove cleanly (the file is closed with its summary,
+the server is stopped) and exits with 0.
 """
 
 from __future__ import annotations
@@ -32,6 +34,24 @@ def _record(args: argparse.Namespace) -> int:
         topic_timeout=args.topic_timeout,
     )
     run_record(options)
+    return 0
+
+
+def _foxglove(args: argparse.Namespace) -> int:
+    from ros_tools.bag.foxglove_live import DISCOVERY_PERIOD, FoxgloveOptions, SdkMissingError, run_foxglove
+    from ros_tools.bag.recorder import RecordOptions
+
+    selection = RecordOptions(
+        output=Path(os.devnull), topics=tuple(args.topics), all_topics=args.all, regex=args.regex,
+        exclude_regex=args.exclude_regex, include_hidden=args.include_hidden_topics,
+        use_sim_time=args.use_sim_time, discovery_period=DISCOVERY_PERIOD,
+    )
+    options = FoxgloveOptions(selection=selection, host=args.host, port=args.port)
+    try:
+        run_foxglove(options)
+    except SdkMissingError as exc:
+        print(f"navsuite-bag foxglove: {exc}", file=sys.stderr)
+        return 2
     return 0
 
 
@@ -66,18 +86,14 @@ def _report(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with the four subcommands."""
+    """The argument parser with the five subcommands."""
     parser = argparse.ArgumentParser(
-        prog="navsuite-bag", description="Record, inspect, replay and report on ROS 2 MCAP recordings.")
+        prog="navsuite-bag",
+        description="Record, inspect, replay and report on ROS 2 MCAP recordings; stream live to Foxglove.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     rec = sub.add_parser("record", help="record topics to an MCAP file")
-    rec.add_argument("topics", nargs="*", help="topics to record")
-    rec.add_argument("-a", "--all", action="store_true",
-                     help="record all topics, also ones that appear later")
-    rec.add_argument("-e", "--regex", default="", help="also record topics matching this regular expression")
-    rec.add_argument("-x", "--exclude-regex", default="", help="never record topics matching this expression")
-    rec.add_argument("--include-hidden-topics", action="store_true", help="with -a/-e, also hidden topics")
+    _add_selection_arguments(rec, "record")
     rec.add_argument("-o", "--output", required=True, help="output .mcap file (overwritten)")
     rec.add_argument("--max-duration", type=float, default=0.0, metavar="S",
                      help="stop after S seconds of (sim) time since the first message; 0 = until Ctrl-C")
@@ -112,7 +128,26 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--map", choices=("first", "last"), default="last", help="which recorded /map to draw")
     rep.add_argument("--latest-plan-only", action="store_true", help="do not draw earlier plans")
     rep.set_defaults(handler=_report)
+
+    fox = sub.add_parser("foxglove", help="stream topics live to Foxglove (needs foxglove-sdk)")
+    _add_selection_arguments(fox, "stream")
+    fox.add_argument("--host", default="127.0.0.1", help="bind address (default: %(default)s, loopback)")
+    fox.add_argument("--port", type=int, default=8765, help="TCP port (default: %(default)s; 0 = any free)")
+    fox.add_argument("--use-sim-time", action="store_true", help="stamp messages with /clock time")
+    fox.set_defaults(handler=_foxglove)
     return parser
+
+
+def _add_selection_arguments(parser: argparse.ArgumentParser, verb: str) -> None:
+    """The topic selection shared by record and foxglove (see RecordOptions)."""
+    parser.add_argument("topics", nargs="*", help=f"topics to {verb}")
+    parser.add_argument("-a", "--all", action="store_true",
+                        help=f"{verb} all topics, also ones that appear later")
+    parser.add_argument("-e", "--regex", default="",
+                        help=f"also {verb} topics matching this regular expression")
+    parser.add_argument("-x", "--exclude-regex", default="",
+                        help=f"never {verb} topics matching this expression")
+    parser.add_argument("--include-hidden-topics", action="store_true", help="with -a/-e, also hidden topics")
 
 
 def _raise_interrupt(_signum: int, _frame: object) -> None:

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import rclpy
 from rclpy.clock import Clock, ClockType
@@ -109,10 +109,20 @@ class RecordOptions:
         return self.all_topics or (include is not None and include.fullmatch(topic) is not None)
 
 
-class Recorder:
-    """Subscribes to the selected topics on an injected node and writes what arrives."""
+class TopicSink(Protocol):
+    """Where a :class:`Recorder` puts what it receives: a :class:`BagWriter`, or a live stream."""
 
-    def __init__(self, node: Node, writer: BagWriter, options: RecordOptions,
+    def add_topic(self, topic: str, type_name: str, offered_qos: str = "", type_hash: str = "") -> None:
+        """Declare a topic before its first message (ValueError: unknown type or definition)."""
+
+    def write(self, topic: str, data: bytes, log_time_ns: int) -> None:
+        """Take one CDR-serialized message received at ``log_time_ns`` (node clock, ns)."""
+
+
+class Recorder:
+    """Subscribes to the selected topics on an injected node and writes what arrives to a sink."""
+
+    def __init__(self, node: Node, writer: TopicSink, options: RecordOptions,
                  warn: Callable[[str], None] | None = None) -> None:
         self._node = node
         self._writer = writer
