@@ -30,8 +30,6 @@ RTF = float(os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0"))
 SEED_TRACE = ["location1", "location2", "location3", "location4", "station", "wait", "recharge"] * 2
 
 
-@pytest.mark.xfail(run=False, reason="not yet passing against the real stack (it ran at RTF 5, which the "
-                   "stack cannot sustain here, before the goal-checker fix); issue 8 is not resolved")
 def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
     launcher = start_stack(RTF)
     try:
@@ -45,8 +43,6 @@ def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
     assert run.visited() == SEED_TRACE, run.output[-4000:]
 
 
-@pytest.mark.xfail(run=False, reason="not yet passing against the real stack (it ran at RTF 5, which the "
-                   "stack cannot sustain here, before the goal-checker fix); issue 8 is not resolved")
 def test_sm_battery_patrol_does_two_rounds_on_the_simulated_battery() -> None:
     cmd = [sys.executable, "-m", "smacc_py.state_machines.sm_battery_patrol.demo", "--rtf", f"{RTF:g}",
            "--cycles", "2", "--low-threshold", "0.95", "--charged-threshold", "0.99", "--timeout", "900"]
