@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import threading
 from pathlib import Path
 from typing import Any
@@ -57,7 +58,7 @@ from tests.helpers.nav_ros_slam_stack import (
 from tests.helpers.ros import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-RTF = 3.0
+RTF = float(os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0"))  # what the whole stack sustains on 2 cores
 GOAL = (0.0, 2.0, 0.0)
 
 
@@ -99,8 +100,10 @@ class Probe:
         self._thread.join(timeout=5.0)
 
 
-@pytest.mark.xfail(run=False, reason="autonomous exploration with the full stack does not complete yet "
-                   "(navigation goals on the growing map fail); issue 8 is not resolved")
+@pytest.mark.xfail(run=False, reason="phase 1 passed at RTF 1 on 2026-11-21 (4 goals, 154 s sim, IoU 0.968, "
+                   "max SLAM pose error 0.071 m); phase 2's lifecycle_manager_localization then did not "
+                   "report 'Managed nodes are active' within 60 s, although the same three processes come up "
+                   "in 1 s when started by hand on the saved map; issue 8 is not resolved")
 def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: Path) -> None:
     probe = Probe(ros_context)
     map_file = tmp_path / "explored"
