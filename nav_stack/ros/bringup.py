@@ -76,7 +76,7 @@ def run_component(name: str, params: str, map_yaml: str | None) -> int:
     """Build the nodes of component ``name``, spin them, print COMPONENT_READY once managers are active."""
     import rclpy
     from rclpy.clock import Clock, ClockType
-    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from nav_stack.ros.lifecycle_manager import LifecycleManager
@@ -92,7 +92,9 @@ def run_component(name: str, params: str, map_yaml: str | None) -> int:
             nodes += _navigation_nodes(kwargs)
         managers = [node for node in nodes if isinstance(node, LifecycleManager)]
         share_sim_time(nodes)
-        executor = MultiThreadedExecutor(num_threads=EXECUTOR_THREADS)
+        # Localization never blocks in a callback: one thread, no thread-pool hand-off per message.
+        executor = (SingleThreadedExecutor() if name == "localization"
+                    else MultiThreadedExecutor(num_threads=EXECUTOR_THREADS))
         for node in nodes:
             executor.add_node(node)
         announced = False

@@ -359,7 +359,7 @@ class LifecycleManager(Node):
 
 def main(argv: list[str] | None = None) -> int:
     """Run one manager: ``--ros-args -r __node:=lifecycle_manager_localization --params-file ...``."""
-    return run_nodes(lambda: [LifecycleManager()], argv)
+    return run_nodes(lambda: [LifecycleManager()], argv, multithreaded=False)
 
 
 if __name__ == "__main__":
