@@ -120,4 +120,8 @@ def run_autonomy(params: dict[str, object], timeout: float) -> AutonomyRun:
         proc.kill()
         out, _ = proc.communicate()
         return AutonomyRun(-1, out, time.monotonic() - started)
+    finally:  # never leave the node running: it would send goals to the next test's stack
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
     return AutonomyRun(proc.returncode, out, time.monotonic() - started)
