@@ -5,12 +5,16 @@
   NAVSUITE_TEST_DOMAIN_ID if set), so parallel runs, CI and a running demo never see each other.
   Child processes started by tests inherit both variables.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
+* After every test, nodes whose context was shut down are destroyed (``_release_dds_participants``):
+  a node outliving its context keeps that context's DDS participant alive, and with localhost
+  discovery a domain holding more than about 30 participants stops discovering new ones.
 """
 
 from __future__ import annotations
 
 import fcntl
 import os
+import sys
 import tempfile
 from collections.abc import Iterator
 
@@ -59,3 +63,14 @@ def ros_context() -> Iterator[object]:
     finally:
         if context.ok():
             rclpy.shutdown(context=context)
+
+
+
+@pytest.fixture(autouse=True)
+def _release_dds_participants() -> Iterator[None]:
+    """After each test, free the DDS participants of the nodes it left behind (see the module doc)."""
+    yield
+    if "rclpy.node" in sys.modules:  # only tests that used rclpy can have left participants
+        from tests.helpers.ros import release_dds_participants
+
+        release_dds_participants()

@@ -6,6 +6,8 @@ and the failure message says what was being waited for.
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
 import signal
 import subprocess
@@ -15,6 +17,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from rclpy.executors import Executor
+from rclpy.node import Node
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -42,6 +45,26 @@ def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condi
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
         time.sleep(step)
+
+
+def release_dds_participants() -> int:
+    """Free the DDS participants that nodes of shut-down contexts still hold; returns the node count.
+
+    Why: rmw_fastrtps keeps a context's DomainParticipant (and its UDP discovery ports) until the
+    last rmw node of that context is gone, and neither ``rclpy.shutdown`` nor ``Node.destroy_node``
+    (which leaves action clients and servers alive, and they hold the node) ends that by itself; the
+    Python objects usually sit in reference cycles until a full collection. Localhost discovery
+    (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) pings a bounded range of participant ids, so after
+    some thirty leftover participants in a test session, two new processes of the same domain
+    never discover each other (seen in CI: /initialpose never matched AMCL's subscription).
+    """
+    gc.collect()
+    orphans = [obj for obj in gc.get_objects()
+               if isinstance(obj, Node) and not obj.context.ok()]
+    for node in orphans:
+        with contextlib.suppress(Exception):  # a half-torn-down node must not fail the next test
+            node.destroy_node()
+    return len(orphans)
 
 
 def start_python(
