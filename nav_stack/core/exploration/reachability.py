@@ -17,6 +17,10 @@ from nav_stack.core.exploration.frontiers import BoolArray, Occupancy, free_mask
 from nav_stack.core.grid import FloatArray, GridSpec
 from nav_stack.core.planning.grid_search import SearchGraph, search
 
+# path_distances searches a two-code grid: a traversable cell costs one step, a wall is impassable.
+_STEP, _WALL = 0, 1
+_STEP_TABLE = [1.0] + [math.inf] * 255
+
 
 def traversable_mask(
     occupancy: Occupancy, spec: GridSpec, robot_radius: float, occupied_threshold: int
@@ -37,15 +41,15 @@ def path_distances(traversable: BoolArray, spec: GridSpec, start: tuple[int, int
     mx, my = start
     if not bool(spec.in_bounds(mx, my)):
         raise ValueError(f"start cell ({mx}, {my}) lies outside the {spec.width} x {spec.height} grid")
-    costs = np.where(traversable, 1.0, np.inf)
-    costs[my, mx] = 1.0
-    graph = SearchGraph.build(costs)
+    codes = np.where(traversable, _STEP, _WALL).astype(np.uint8)
+    codes[my, mx] = _STEP
+    graph = SearchGraph.build(codes, _STEP_TABLE)
     result = search(
         graph,
         graph.index(mx, my),
         -1,
         use_astar=False,
-        max_iterations=costs.size + 1,
+        max_iterations=codes.size + 1,
         deadline_passed=lambda: False,
     )
     out = np.full(spec.width * spec.height, np.inf)

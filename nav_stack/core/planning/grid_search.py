@@ -1,12 +1,14 @@
 """Cost-aware 8-connected A* / Dijkstra over a costmap, on flat indices of a padded grid.
 
 Why this shape: the search runs in pure Python, so everything that can be done once per plan is
-done with numpy before the loop. The costmap is translated to per-cell traversal costs
-(NavFn's c' = 50 + 0.8·c, impassable = inf), padded with a one-cell impassable border so the loop
-needs no bounds checks, flattened, and turned into Python lists (list indexing is several times
-faster than numpy scalar indexing). Impassable cells start "closed", so one bytearray lookup
-rejects both visited and blocked neighbours. Moving into a cell costs its traversal cost times
-the step length in cells (1 or √2); the start cell is free.
+done before the loop, and preparing a costmap must be cheap because the global costmap changes
+about once a second. The graph keeps the costmap's own uint8 codes (padded with a one-cell
+impassable border so the loop needs no bounds checks, flattened to ``bytes``) and a 256-entry
+table from code to traversal cost (NavFn's c' = 50 + 0.8·c). Preparing a 1000 × 1000 map is then a
+pad and a copy (about 2 ms) instead of a million Python floats (about 45 ms, plus as much again
+to free the previous ones). Impassable cells start "closed", so one bytearray lookup rejects both
+visited and blocked neighbours; the cost table is only read for passable cells. Moving into a
+cell costs its traversal cost times the step length in cells (1 or √2); the start cell is free.
 
 A* uses the octile distance times the neutral cost (50), admissible and consistent because no
 step is cheaper than 50 per cell; it is inflated by 1e-6 so ties on f prefer the deeper node,
@@ -37,14 +39,23 @@ _CLOSED_EXPANDED = 2
 _DEADLINE_CHECK_EVERY = 2048
 
 
-def navfn_traversal_costs(costs: npt.NDArray[np.uint8], allow_unknown: bool) -> npt.NDArray[np.float64]:
-    """Per-cell traversal cost: 50 + 0.8·c below 253, 253 for allowed unknown, inf when impassable."""
-    c = costs.astype(np.float64)
-    out = NEUTRAL_COST + COST_FACTOR * c
-    out[costs >= INSCRIBED_INFLATED_OBSTACLE] = np.inf
+#: The code whose table entry is the escape cost: costmap cells of this code (inscribed) are
+#: impassable, except the ones :func:`open_escape` opens around a wedged robot.
+ESCAPE_CODE = INSCRIBED_INFLATED_OBSTACLE
+
+
+def navfn_cost_table(allow_unknown: bool) -> list[float]:
+    """Traversal cost per costmap code: 50 + 0.8·c below 253, 253 for allowed unknown, else inf."""
+    table = [NEUTRAL_COST + COST_FACTOR * code if code < INSCRIBED_INFLATED_OBSTACLE else math.inf
+             for code in range(256)]
     if allow_unknown:
-        out[costs == NO_INFORMATION] = UNKNOWN_TRAVERSAL_COST
-    return out
+        table[NO_INFORMATION] = UNKNOWN_TRAVERSAL_COST
+    return table
+
+
+def navfn_traversal_costs(costs: npt.NDArray[np.uint8], allow_unknown: bool) -> npt.NDArray[np.float64]:
+    """Per-cell traversal cost array of a costmap (``navfn_cost_table`` applied to every cell)."""
+    return np.asarray(navfn_cost_table(allow_unknown))[costs]
 
 
 class SearchTimeoutError(Exception):
@@ -53,22 +64,33 @@ class SearchTimeoutError(Exception):
 
 @dataclass
 class SearchGraph:
-    """A traversal-cost grid prepared for the search loop (padded by one impassable cell)."""
+    """A costmap prepared for the search loop: padded codes, their cost table and the blocked cells.
+
+    A passable cell at flat index i costs ``table[codes[i]]``; cells with ``blocked[i]`` set are
+    never entered, whatever their table entry.
+    """
 
     width: int
     height: int
-    cell_cost: list[float]
+    codes: bytes
+    table: list[float]
     blocked: bytes
 
     @classmethod
-    def build(cls, traversal: npt.NDArray[np.float64]) -> SearchGraph:
-        """Pad, flatten and listify a (height, width) traversal-cost array (inf = impassable)."""
-        height, width = traversal.shape
-        padded = np.full((height + 2, width + 2), np.inf)
-        padded[1:-1, 1:-1] = traversal
-        flat = padded.ravel()
-        blocked = np.isinf(flat).view(np.uint8).tobytes()  # True -> 1 == _CLOSED_BLOCKED
-        return cls(width, height, flat.tolist(), blocked)
+    def build(cls, codes: npt.NDArray[np.uint8], table: list[float]) -> SearchGraph:
+        """Pad and flatten a (height, width) code grid; a cell is blocked when its table cost is inf."""
+        if len(table) != 256:
+            raise ValueError(f"the cost table needs 256 entries (one per uint8 code), got {len(table)}")
+        height, width = codes.shape
+        padded = np.pad(codes.astype(np.uint8, copy=False), 1)
+        impassable = np.isinf(np.asarray(table, dtype=np.float64))
+        blocked = impassable[padded]
+        blocked[0, :] = blocked[-1, :] = blocked[:, 0] = blocked[:, -1] = True
+        return cls(width, height, padded.tobytes(), list(table), blocked.view(np.uint8).tobytes())
+
+    def cost(self, index: int) -> float:
+        """Traversal cost of the cell at flat ``index``; inf when it is blocked."""
+        return math.inf if self.blocked[index] else self.table[self.codes[index]]
 
     @property
     def stride(self) -> int:
@@ -110,13 +132,15 @@ def open_escape(
     near = (xx - mx) ** 2 + (yy - my) ** 2 <= radius_cells**2
     escape = near & (costs[y0:y1, x0:x1] == INSCRIBED_INFLATED_OBSTACLE)
     escape[my - y0, mx - x0] = True
-    cell_cost = list(graph.cell_cost)
+    codes = bytearray(graph.codes)
     blocked = bytearray(graph.blocked)
     for y, x in zip(*np.nonzero(escape), strict=True):
         index = graph.index(int(x0 + x), int(y0 + y))
-        cell_cost[index] = escape_cost
+        codes[index] = ESCAPE_CODE
         blocked[index] = 0
-    return SearchGraph(graph.width, graph.height, cell_cost, bytes(blocked))
+    table = list(graph.table)
+    table[ESCAPE_CODE] = escape_cost
+    return SearchGraph(graph.width, graph.height, bytes(codes), table, bytes(blocked))
 
 
 @dataclass
@@ -154,7 +178,7 @@ def search(
     (polled every 2048 expansions).
     """
     stride = graph.stride
-    cost = graph.cell_cost
+    codes, table = graph.codes, graph.table
     closed = bytearray(graph.blocked)
     g: dict[int, float] = {start: 0.0}
     parent: dict[int, int] = {}
@@ -192,7 +216,7 @@ def search(
             n = cur + offset
             if closed[n]:
                 continue
-            ng = g_cur + cost[n] * length
+            ng = g_cur + table[codes[n]] * length
             if ng < g.get(n, inf):
                 g[n] = ng
                 parent[n] = cur

@@ -35,7 +35,7 @@ from nav_stack.core.planning.grid_search import (
     NEUTRAL_COST,
     SearchGraph,
     SearchTimeoutError,
-    navfn_traversal_costs,
+    navfn_cost_table,
     search,
 )
 
@@ -79,7 +79,7 @@ class NavfnPlanner:
 
     def _prepare(self, costs: CostArray) -> SearchGraph:
         if self._graph is None or self._cached_costs is None or not np.array_equal(costs, self._cached_costs):
-            self._graph = SearchGraph.build(navfn_traversal_costs(costs, self.params.allow_unknown))
+            self._graph = SearchGraph.build(costs, navfn_cost_table(self.params.allow_unknown))
             self._cached_costs = costs.copy()
         return self._graph
 

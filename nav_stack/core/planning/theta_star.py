@@ -20,7 +20,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, MAX_NON_OBSTACLE, NO_INFORMATION, GridSpec
@@ -59,30 +58,31 @@ class ThetaStarParams:
             )
 
 
-def theta_cell_costs(costs: CostArray, allow_unknown: bool) -> npt.NDArray[np.float64]:
-    """(c / 252)² per cell; unknown charged as 253 when allowed; inf where impassable."""
-    norm = (costs.astype(np.float64) / MAX_NON_OBSTACLE) ** 2
-    norm[costs >= INSCRIBED_INFLATED_OBSTACLE] = np.inf
+def theta_cost_table(allow_unknown: bool) -> list[float]:
+    """(c / 252)² per costmap code; unknown charged as 253 when allowed; inf where impassable."""
+    table = [(code / MAX_NON_OBSTACLE) ** 2 if code < INSCRIBED_INFLATED_OBSTACLE else math.inf
+             for code in range(256)]
     if allow_unknown:
-        norm[costs == NO_INFORMATION] = (INSCRIBED_INFLATED_OBSTACLE / MAX_NON_OBSTACLE) ** 2
-    return norm
+        table[NO_INFORMATION] = (INSCRIBED_INFLATED_OBSTACLE / MAX_NON_OBSTACLE) ** 2
+    return table
 
 
-def segment_mean_cost(cost: list[float], stride: int, a: int, b: int) -> float:
+def segment_mean_cost(graph: SearchGraph, a: int, b: int) -> float:
     """Mean cell cost over the supercover of segment a→b (flat padded indices); inf when blocked."""
+    stride, codes, table, blocked = graph.stride, graph.codes, graph.table, graph.blocked
     ay, ax = divmod(a, stride)
     by, bx = divmod(b, stride)
     dx, dy = abs(bx - ax), abs(by - ay)
     sx = 1 if bx > ax else -1
     sy = stride if by > ay else -stride
     idx = a
-    total = cost[a]
+    total = table[codes[a]]
     count = 1
     ix = iy = 0
     while ix < dx or iy < dy:
         crossing = (2 * ix + 1) * dy - (2 * iy + 1) * dx
         if crossing == 0:  # exactly through a lattice corner: only a gap between two obstacles blocks
-            if cost[idx + sx] == math.inf and cost[idx + sy] == math.inf:
+            if blocked[idx + sx] and blocked[idx + sy]:
                 return math.inf
             idx += sx + sy
             ix += 1
@@ -93,10 +93,10 @@ def segment_mean_cost(cost: list[float], stride: int, a: int, b: int) -> float:
         else:
             idx += sy
             iy += 1
-        total += cost[idx]
-        count += 1
-        if total == math.inf:
+        if blocked[idx]:
             return math.inf
+        total += table[codes[idx]]
+        count += 1
     return total / count
 
 
@@ -113,10 +113,9 @@ class ThetaStarPlanner:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
-        cell_costs = theta_cell_costs(costs, self.params.allow_unknown)
-        finite = cell_costs[np.isfinite(cell_costs)]
-        escape_cost = float(finite.max()) if finite.size else 1.0
-        graph = graph_from_start(SearchGraph.build(cell_costs), costs, spec, start_cell, escape_cost)
+        table = theta_cost_table(self.params.allow_unknown)
+        escape_cost = max(cost for cost in table if cost < math.inf)  # the highest passable cost
+        graph = graph_from_start(SearchGraph.build(costs, table), costs, spec, start_cell, escape_cost)
         if not graph.passable(*goal_cell):
             raise PlanningError(
                 PlanErrorCode.GOAL_OCCUPIED,
@@ -132,7 +131,7 @@ class ThetaStarPlanner:
 
     def _search(self, graph: SearchGraph, start: int, goal: int) -> list[int]:
         p = self.params
-        stride, cost = graph.stride, graph.cell_cost
+        stride = graph.stride
         steps = [-1, 1, -stride, stride]
         if p.how_many_corners == 8:
             steps += [-stride - 1, -stride + 1, stride - 1, stride + 1]
@@ -148,7 +147,7 @@ class ThetaStarPlanner:
         def move_cost(a: int, b: int) -> float:
             ay, ax = divmod(a, stride)
             by, bx = divmod(b, stride)
-            mean = segment_mean_cost(cost, stride, a, b)
+            mean = segment_mean_cost(graph, a, b)
             return (p.w_euc_cost + p.w_traversal_cost * mean) * math.hypot(bx - ax, by - ay)
 
         while heap:
