@@ -3,17 +3,19 @@
 1. Node timing: the slam node in this process, fed by the fake robot of
    tests/helpers/nav_ros_slam_fakes.py (analytic hexagon room, 360 beams), waiting for each scan's
    slam/pose; the node records the wall time of every processed scan (``SlamNode.process_times``).
-2. Exploration: sim2d (RTF 3, drifting odometry) + the ``nav-bringup --slam`` processes + the Nav2
-   servers, and ``nav-explore -f`` from the seeds' spawn until complete (tests/helpers/nav_ros_slam_stack.py).
+2. Exploration: sim2d (``--rtf``, default 1: what the stack sustains on 2 cores; drifting odometry)
+   + the ``nav-bringup --slam`` processes + the Nav2 servers, and ``nav-explore -f`` from the seeds'
+   spawn until complete (tests/helpers/nav_ros_slam_stack.py).
    Recorded: occupied-cell IoU with the observable walls of maps/turtlebot3_world.yaml (one-cell
    tolerance), SLAM pose error against ground truth (median and max), goals, duration (sim s, wall s).
 
-Run: ``.venv/bin/python -m bench.bench_slam_system`` (``--no-record`` to only print; ``--node-only``
-skips the exploration run).
+Run: ``.venv/bin/python -m bench.bench_slam_system [--rtf 1] [--node-only] [--no-record]``
+(``--node-only`` skips the exploration run, ``--no-record`` only prints).
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import tempfile
@@ -63,14 +65,14 @@ def node_timing(bench: Benchmark) -> None:
         rclpy.shutdown(context=context)
 
 
-def exploration(bench: Benchmark) -> None:
+def exploration(bench: Benchmark, rtf: float) -> None:
     from tests.system.test_slam_exploration import Probe
 
     context = Context()
     rclpy.init(context=context)
     probe = Probe(context)
     directory = Path(tempfile.mkdtemp(prefix="bench_slam_"))
-    stack = Stack([sim_spec(3.0), *slam_processes(PARAMS_FILE), *nav_specs()])
+    stack = Stack([sim_spec(rtf), *slam_processes(PARAMS_FILE), *nav_specs()])
     try:
         started = time.monotonic()
         done = explore(directory / "explored", max_time=900.0, timeout=1500.0)
@@ -81,7 +83,7 @@ def exploration(bench: Benchmark) -> None:
         numbers = progress_numbers(done.stdout)
         iou = compare_with_reference(directory / "explored.yaml")
         errors = Stats.of(probe.errors)
-        note = (f"RTF 3, {numbers['goals']:.0f} goals ({numbers['failed']:.0f} failed), "
+        note = (f"RTF {rtf:g}, {numbers['goals']:.0f} goals ({numbers['failed']:.0f} failed), "
                 f"{numbers['mapped']:.1f} m2")
         bench.record_value("exploration: occupied IoU vs observable reference walls (1-cell tol.)", iou, "",
                            note=note)
@@ -95,11 +97,17 @@ def exploration(bench: Benchmark) -> None:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rtf", type=float, default=1.0, help="real-time factor of the exploration run")
+    parser.add_argument("--node-only", action="store_true", help="skip the exploration run")
+    parser.add_argument("--no-record", action="store_true", help="print, do not append to RESULTS.md")
+    args = parser.parse_args()
     bench = Benchmark("slam_system")
     node_timing(bench)
-    if "--node-only" not in sys.argv:
-        exploration(bench)
-    bench.save()
+    if not args.node_only:
+        exploration(bench, args.rtf)
+    if not args.no_record:
+        bench.save()
 
 
 if __name__ == "__main__":
