@@ -43,6 +43,7 @@ from tests.helpers.nav_ros_slam_stack import (
     sim_spec,
 )
 from tests.helpers.nav_ros_world import Harness
+from tests.helpers.ros import release_dds_participants
 
 
 def node_timing(bench: Benchmark) -> None:
@@ -63,6 +64,7 @@ def node_timing(bench: Benchmark) -> None:
     finally:
         harness.close()
         rclpy.shutdown(context=context)
+        release_dds_participants()  # the exploration's processes must find each other (see its doc)
 
 
 def exploration(bench: Benchmark, rtf: float) -> None:
