@@ -65,7 +65,6 @@ def ros_context() -> Iterator[object]:
             rclpy.shutdown(context=context)
 
 
-
 @pytest.fixture(autouse=True)
 def _release_dds_participants() -> Iterator[None]:
     """After each test, free the DDS participants of the nodes it left behind (see the module doc)."""

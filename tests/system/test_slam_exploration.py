@@ -70,7 +70,7 @@ class Probe:
     def __init__(self, context: Any) -> None:
         self.node = Node("slam_system_probe", context=context)
         self.truth: tuple[float, float, float] | None = None  # t, x, y
-        self._recent_truth: deque[tuple[float, float, float]] = deque(maxlen=400)  # ~8 s at 50 Hz
+        self._recent_truth: deque[tuple[float, float, float]] = deque(maxlen=400)  # ~13 s at 30 Hz
         self.errors: list[float] = []
         self.collisions: list[int] = []
         self.node.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)

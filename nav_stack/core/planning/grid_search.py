@@ -88,10 +88,6 @@ class SearchGraph:
         blocked[0, :] = blocked[-1, :] = blocked[:, 0] = blocked[:, -1] = True
         return cls(width, height, padded.tobytes(), list(table), blocked.view(np.uint8).tobytes())
 
-    def cost(self, index: int) -> float:
-        """Traversal cost of the cell at flat ``index``; inf when it is blocked."""
-        return math.inf if self.blocked[index] else self.table[self.codes[index]]
-
     @property
     def stride(self) -> int:
         return self.width + 2
