@@ -18,5 +18,6 @@ step "import-linter"
 step "pytest"
 # Tests that run the simulator and the stack depend on timing, and two cores shared by a dozen Python
 # nodes sometimes lag. A failed test is re-run at most twice; each re-run shows as R in the output, and a
-# feature that is really broken still fails.
+# feature that is really broken still fails. The summary ends with why each re-run attempt failed
+# (tests/conftest.py).
 "$VENV/bin/python" -m pytest --reruns 2 --reruns-delay 2 "$@"
