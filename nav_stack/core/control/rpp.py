@@ -9,6 +9,13 @@ near the path end it ramps down to ``min_approach_linear_velocity``. Large headi
 the final goal heading are handled by rotating in place (with ``max_angular_accel``). The
 command is simulated ahead up to the carrot, at most ``max_allowed_time_to_collision_up_to_carrot``
 s, and a collision raises NoValidControl.
+
+Two choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
+``stateful`` (Nav2 PR #5167, later releases) keeps rotating to the goal heading once the goal was
+within ``goal_dist_tol``, even when localization jitter or the turn itself moves the robot just
+outside it (otherwise it turns back toward the goal point, then again to the heading, ...); and
+in-place rotations brake to stop on their target angle, |ω| <= sqrt(2·max_angular_accel·|angle|),
+instead of overshooting it at ``rotate_to_heading_angular_vel`` (ros-navigation/navigation2#4937).
 """
 
 from __future__ import annotations
@@ -52,6 +59,7 @@ class RPPParams:
     inscribed_radius: float = 0.22
     goal_dist_tol: float = 0.25
     controller_frequency: float = 20.0
+    stateful: bool = True
 
     def __post_init__(self) -> None:
         if not 0.0 < self.min_lookahead_dist <= self.max_lookahead_dist:
@@ -140,15 +148,34 @@ class RegulatedPurePursuit:
         self.params = params or RPPParams()
         self.footprint: Footprint = footprint or CircleFootprint(self.params.inscribed_radius)
         self.last_carrot = np.zeros(2)
+        self._heading_goal: tuple[float, float] | None = None  # goal (x, y) whose heading is latched
 
     def reset(self) -> None:
         self.last_carrot = np.zeros(2)
+        self._heading_goal = None
 
     def _rotate(self, angle: float, velocity: Twist2D) -> Twist2D:
+        """Turn in place toward ``angle`` (rad, robot frame) within the acceleration limit, braking
+        so as to stop on it."""
         p = self.params
         dv = p.max_angular_accel / p.controller_frequency
-        w = math.copysign(p.rotate_to_heading_angular_vel, angle)
+        speed = min(p.rotate_to_heading_angular_vel, math.sqrt(2.0 * p.max_angular_accel * abs(angle)))
+        w = math.copysign(speed, angle)
         return Twist2D(0.0, min(max(w, velocity.wz - dv), velocity.wz + dv))
+
+    def _rotating_to_goal_heading(self, goal_world: FloatArray, goal_local: FloatArray) -> bool:
+        """Whether only the final turn onto the goal heading remains (latched per goal if stateful)."""
+        p = self.params
+        if not p.use_rotate_to_heading:
+            return False
+        goal_xy = (float(goal_world[0]), float(goal_world[1]))
+        latched = self._heading_goal is not None and math.dist(self._heading_goal, goal_xy) < 1e-3
+        if p.stateful and latched:
+            return True
+        if math.hypot(goal_local[0], goal_local[1]) < p.goal_dist_tol:
+            self._heading_goal = goal_xy
+            return True
+        return False
 
     def compute_velocity(self, robot: Pose2D, velocity: Twist2D, path: FloatArray, grid: CostGrid) -> Twist2D:
         if len(path) == 0:
@@ -164,7 +191,7 @@ class RegulatedPurePursuit:
         self.last_carrot = carrot
         curvature = curvature_to(carrot)
         goal = local[-1]
-        if p.use_rotate_to_heading and math.hypot(goal[0], goal[1]) < p.goal_dist_tol:
+        if self._rotating_to_goal_heading(path[-1], goal):
             cmd = self._rotate(float(goal[2]), velocity)
         elif (
             p.use_rotate_to_heading and abs(math.atan2(carrot[1], carrot[0])) > p.rotate_to_heading_min_angle

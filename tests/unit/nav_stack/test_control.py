@@ -197,6 +197,47 @@ def test_rpp_reaches_the_goal_and_its_heading_in_a_kinematic_loop() -> None:
     assert abs(math.remainder(pose.yaw - math.pi, 2 * math.pi)) <= 0.25
 
 
+def _rpp_near_goal(stateful: bool) -> tuple[RegulatedPurePursuit, CostGrid, np.ndarray]:
+    """RPP that just started its final turn at 0.2 m from a goal whose heading is π/2 (robot faces 0)."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    rpp = RegulatedPurePursuit(RPPParams(use_collision_detection=False, stateful=stateful))
+    path = polyline_path([(0.0, 0.0), (0.2, 0.0)])
+    path[-1, 2] = math.pi / 2
+    first = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert first.vx == 0.0 and first.wz > 0.0  # inside goal_dist_tol: turning onto the goal heading
+    return rpp, grid, path
+
+
+def test_stateful_rpp_keeps_turning_to_the_goal_heading_after_drifting_out_of_tolerance() -> None:
+    rpp, grid, path = _rpp_near_goal(stateful=True)
+    drifted = Pose2D(-0.1, 0.0, 0.3)  # 0.3 m from the goal: outside goal_dist_tol, goal point ahead
+    cmd = rpp.compute_velocity(drifted, Twist2D(0.0, 0.5), path, grid)
+    assert cmd.vx == 0.0 and cmd.wz > 0.0, "turned back toward the goal point instead of its heading"
+    rpp.reset()  # a new goal forgets the latch
+    cmd = rpp.compute_velocity(drifted, Twist2D(0.0, 0.0), path, grid)
+    assert cmd.vx > 0.0, "the latch survived reset()"
+
+
+def test_stateless_rpp_drives_back_toward_the_goal_point_as_nav2_jazzy_does() -> None:
+    rpp, grid, path = _rpp_near_goal(stateful=False)
+    cmd = rpp.compute_velocity(Pose2D(-0.1, 0.0, 0.3), Twist2D(0.0, 0.0), path, grid)
+    assert cmd.vx > 0.0  # back toward the goal point, away from the final turn
+
+
+def test_rpp_brakes_an_in_place_turn_to_stop_on_its_target() -> None:
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    rpp = RegulatedPurePursuit(RPPParams(use_collision_detection=False))
+    path = polyline_path([(0.0, 0.0), (0.1, 0.0)])
+    path[-1, 2] = 0.05  # 0.05 rad to go while turning at full speed
+    cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 1.8), path, grid)
+    assert cmd.wz == pytest.approx(1.8 - 3.2 * DT)  # braking as hard as max_angular_accel allows
+    path[-1, 2] = 0.005
+    slow = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.2), path, grid)
+    assert slow.wz == pytest.approx(math.sqrt(2 * 3.2 * 0.005))  # what still stops on the target
+
+
 def test_rpp_detects_a_collision_before_the_carrot() -> None:
     spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
     grid = with_obstacle(spec, 0.4, 0.5, -0.3, 0.3)
