@@ -7,7 +7,8 @@ Import the public API from here::
 
 Modules: ``events`` (parameterised event classes), ``tags``, ``transition`` (``Transition``,
 ``History``), ``state`` (``SmaccState`` declarations), ``model`` (compile + validate), ``state_machine``
-(queue and dispatch), ``lifecycle`` (entry/exit order), ``orthogonal``, ``client`` (clients, components),
+(queue and dispatch), ``assembly`` (building orthogonals, clients, components; substitutes),
+``lifecycle`` (entry/exit order), ``orthogonal``, ``client`` (clients, components),
 ``client_behavior`` (sync/async behaviors), ``reactors``, ``event_generators``, ``updatable``,
 ``global_data``, ``observer``, ``introspection`` (smacc2_msgs-shaped description), ``graph_export``
 (Mermaid/DOT), ``params``, ``errors``.

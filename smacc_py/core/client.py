@@ -27,18 +27,22 @@ class ISmaccClient:
     orthogonal: Orthogonal
     sm: SmaccStateMachineBase
     components: list[ISmaccComponent]
+    #: The type the orthogonal asked for: this class, or the one it stands in for (a substitute).
+    client_type: type
 
-    def _attach(self, orthogonal: Orthogonal) -> None:
+    def _attach(self, orthogonal: Orthogonal, client_type: type | None = None) -> None:
         self.orthogonal = orthogonal
         self.sm = orthogonal.sm
         self.components = []
+        self.client_type = client_type if client_type is not None else type(self)
 
     def on_initialize(self) -> None:
         """Called once after every orthogonal and client exists (create publishers, wire signals)."""
 
     def create_component(self, component_type: type[C], *args: Any, **kwargs: Any) -> C:
-        """Construct a component owned by this client; its ``on_initialize`` runs at machine init."""
-        component = component_type(*args, **kwargs)
+        """Construct a component owned by this client (or the machine's stand-in for ``component_type``);
+        its ``on_initialize`` runs at machine init."""
+        component = self.sm.build_part(component_type, args, kwargs)
         if not isinstance(component, ISmaccComponent):
             raise TypeError(f"{component_type.__name__} is not an ISmaccComponent")
         component._attach(self)
@@ -55,8 +59,9 @@ class ISmaccClient:
         return None
 
     def own_event(self, template: type[SmaccEvent]) -> type[SmaccEvent]:
-        """``template[ThisClient, ThisOrthogonal]``, the event SMACC2 clients post about themselves."""
-        return template[type(self), type(self.orthogonal)]
+        """``template[ThisClient, ThisOrthogonal]``, the event SMACC2 clients post about themselves; a
+        substitute posts it under the client type it stands in for, so transitions match unchanged."""
+        return template[self.client_type, type(self.orthogonal)]
 
     def post_event(self, event: SmaccEvent | type[SmaccEvent]) -> None:
         """Post an event with ABSOLUTE lifetime (clients outlive states)."""

@@ -9,8 +9,8 @@ hook; and per-(leaf state, event class) dispatch tables (innermost state first, 
 built lazily and cached. The same model feeds introspection and graph export, so what is drawn is
 what runs.
 
-Definition errors found here (unknown target names, history of a non-superstate, unreachable declared
-states, superstates without an inner initial state, states claimed by another machine) raise
+Definition errors found here (unknown target names, history of a non-superstate, unreachable states,
+superstates without an inner initial state, states claimed by another machine) raise
 ``InvalidDefinitionError`` naming the class at fault; the machine compiles on first instantiation,
 ``validate()`` or ``describe_state_machine()``.
 """
@@ -162,13 +162,31 @@ class MachineModel:
                     )
                 self._targets[(cls, i)] = (target, history)
                 pending.append(target)
-        unreachable = [cls.__name__ for cls in self._names.values() if cls not in self._parents]
+        unreachable = [cls.__name__ for cls in self._expected_states() if cls not in self._parents]
         if unreachable:
             raise InvalidDefinitionError(
                 f"{self.sm_type.__name__}: state(s) {', '.join(unreachable)} are declared but unreachable "
                 f"from the initial state {self.initial.__name__} (no transition or inner_initial_state "
                 "leads there)"
             )
+
+    def _expected_states(self) -> list[type[SmaccState]]:
+        """The states the machine must reach from its initial state.
+
+        Those declared with ``parent=`` the machine or a state it reaches, and the free top-level states
+        (no ``parent=``) defined next to the machine or to one of its reached free states: same module and
+        same scope (module level, or one function body). Free states are adopted by whichever machine
+        reaches them, so a forgotten transition into one would otherwise go unnoticed. A class that other
+        states subclass is a template, not a state (sm_battery_patrol's ``_GoTo``), and is skipped.
+        """
+        expected = dict.fromkeys(self._names.values())
+        for cls in list(self._parents):
+            expected.update(dict.fromkeys(declared_children(cls)))
+        scopes = {_scope(self.sm_type)} | {_scope(cls) for cls in self._parents if cls.parent_decl is None}
+        for cls in _state_classes():
+            if cls.parent_decl is None and _scope(cls) in scopes and not cls.__subclasses__():
+                expected.setdefault(cls)
+        return list(expected)
 
     def _chain(self, cls: type[SmaccState]) -> tuple[type[SmaccState], ...]:
         chain: list[type[SmaccState]] = []
@@ -247,6 +265,22 @@ class MachineModel:
             for cfg in cls.behavior_configs:
                 used.setdefault(cfg.orthogonal, []).append((cls, cfg.behavior))
         return used
+
+
+def _scope(cls: type) -> tuple[str, str]:
+    """(module, enclosing qualified name): where a class is defined, e.g. a test function's body."""
+    return cls.__module__, cls.__qualname__.rpartition(".")[0]
+
+
+def _state_classes() -> list[type[SmaccState]]:
+    """Every SmaccState subclass alive in the process, breadth first."""
+    found: list[type[SmaccState]] = []
+    pending: list[type[SmaccState]] = [SmaccState]
+    while pending:
+        for sub in pending.pop(0).__subclasses__():
+            found.append(sub)
+            pending.append(sub)
+    return found
 
 
 def compile_model(sm_type: type) -> MachineModel:

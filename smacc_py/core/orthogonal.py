@@ -34,13 +34,14 @@ class Orthogonal:
         """Create this orthogonal's clients with ``create_client``."""
 
     def create_client(self, client_type: type[C], *args: Any, **kwargs: Any) -> C:
-        """Construct a client owned by this orthogonal (SMACC2 ``createClient<ClX>(args)``)."""
-        client = client_type(*args, **kwargs)
+        """Construct a client owned by this orthogonal (SMACC2 ``createClient<ClX>(args)``), or the stand-in
+        the machine was given for ``client_type`` (``SmaccStateMachineBase(substitutes=...)``)."""
+        client = self.sm.build_part(client_type, args, kwargs)
         if not isinstance(client, ISmaccClient):
             raise TypeError(
                 f"{type(self).__name__}.create_client: {client_type.__name__} is not an ISmaccClient"
             )
-        client._attach(self)
+        client._attach(self, client_type)
         self.clients.append(client)
         return client
 

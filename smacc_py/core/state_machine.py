@@ -11,8 +11,10 @@ states, or the remembered leaf for ``History``). Self-transitions exit and re-en
 Events posted by behaviors, reactors and generators carry the sequence number of the state instance
 that owns them (CURRENT_STATE lifetime) and are dropped once that instance has begun to exit.
 
-Read-only lookups (active states, orthogonals, clients, components, blackboard reads, ``describe``)
-live in the ``StateMachineQueries`` mixin (``state_machine_queries.py``), which this class inherits.
+Two mixins this class inherits hold what is not dispatch: ``MachineAssembly`` (``assembly.py``) builds
+the orthogonals, clients and components (and their substitutes) once before the first state, and
+``StateMachineQueries`` (``state_machine_queries.py``) answers read-only lookups (active states,
+orthogonals, clients, components, blackboard reads, ``describe``).
 
 Two ways to run it: synchronously (``start()``, ``post_event()``, ``process_events()``: no threads, for
 unit tests) or with a worker thread (``start(threaded=True)``) for the ROS runtime, which also calls
@@ -25,9 +27,10 @@ import logging
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
-from typing import Any, ClassVar, TypeVar
+from collections.abc import Callable, Mapping
+from typing import Any, ClassVar
 
+from smacc_py.core.assembly import MachineAssembly, StandInFactory, check_substitutes
 from smacc_py.core.errors import InvalidDefinitionError, SmaccError
 from smacc_py.core.events import SmaccEvent
 from smacc_py.core.global_data import GlobalData
@@ -42,10 +45,9 @@ from smacc_py.core.state_machine_queries import StateMachineQueries
 from smacc_py.core.updatable import ISmaccUpdatable
 
 _log = logging.getLogger("smacc_py")
-C = TypeVar("C")
 
 
-class SmaccStateMachineBase(StateMachineQueries):
+class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
     """Base of every machine: set ``initial_state`` and create orthogonals in ``on_initialize``."""
 
     _is_smacc_state_machine: ClassVar[bool] = True
@@ -66,10 +68,13 @@ class SmaccStateMachineBase(StateMachineQueries):
         return compile_model(cls)
 
     def __init__(self, *, params: SmaccEngineParams | None = None, now: Callable[[], float] | None = None,
-                 name: str | None = None) -> None:
+                 name: str | None = None, substitutes: Mapping[type, StandInFactory] | None = None) -> None:
+        """``now``: the clock (s; the ROS runtime injects the node clock). ``substitutes``: stand-ins for
+        client and component types, e.g. scripted fakes in unit tests (see ``assembly.py``)."""
         self.params = params or SmaccEngineParams()
         self.name = name or type(self).__name__
         self.model = compile_model(type(self))
+        self.substitutes = check_substitutes(substitutes)
         self._now = now or time.monotonic
         self._queue: deque[tuple[SmaccEvent, int | None]] = deque()
         self._post_lock = threading.RLock()
@@ -92,47 +97,6 @@ class SmaccStateMachineBase(StateMachineQueries):
         self._wake_needed = False  # True while a worker or run_until() waits for posts
         self.global_data = GlobalData()
         self.transition_log: deque[TransitionRecord] = deque(maxlen=self.params.transition_log_size)
-
-    # ------------------------------------------------------------------ user hooks and construction
-    def on_initialize(self) -> None:
-        """Create the orthogonals (``create_orthogonal``); runs once, before any state is entered."""
-
-    def create_orthogonal(self, orthogonal_type: type[C]) -> C:
-        """Create an orthogonal and run its ``on_initialize`` (which creates its clients)."""
-        if not (isinstance(orthogonal_type, type) and issubclass(orthogonal_type, Orthogonal)):
-            raise InvalidDefinitionError(f"{self.name}.create_orthogonal: {orthogonal_type!r} is not an "
-                                         f"Orthogonal")
-        if orthogonal_type in self._orthogonals:
-            raise InvalidDefinitionError(f"{self.name}: orthogonal {orthogonal_type.__name__} created twice")
-        orthogonal = orthogonal_type()
-        orthogonal._attach(self)
-        self._orthogonals[orthogonal_type] = orthogonal
-        self._orthogonal_list.append(orthogonal)
-        orthogonal.on_initialize()
-        return orthogonal
-
-    def initialize(self) -> None:
-        """Create orthogonals, clients and components and check that every configured orthogonal exists."""
-        if self._initialized:
-            return
-        self.on_initialize()
-        for orthogonal in self._orthogonal_list:
-            for client in orthogonal.clients:
-                client.on_initialize()
-        for orthogonal in self._orthogonal_list:
-            for client in orthogonal.clients:
-                for component in client.components:
-                    component.on_initialize()
-        for orthogonal_type, users in self.model.configured_orthogonals().items():
-            if orthogonal_type not in self._orthogonals:
-                state, behavior = users[0]
-                created = ", ".join(t.__name__ for t in self._orthogonals) or "none"
-                raise InvalidDefinitionError(
-                    f"{state.__name__} configures {behavior.__name__} on {orthogonal_type.__name__}, but "
-                    f"{self.name}.on_initialize does not create {orthogonal_type.__name__} (created: "
-                    f"{created})"
-                )
-        self._initialized = True
 
     # ------------------------------------------------------------------ running
     def start(self, *, threaded: bool = False) -> None:

@@ -103,5 +103,6 @@ class StateMachineQueries:
 
     def describe(self) -> StateMachineDescription:
         """Static description plus the client names of every orthogonal (after ``initialize()``)."""
-        clients = {type(o).__name__: [type(c).__name__ for c in o.clients] for o in self._orthogonal_list}
+        clients = {type(o).__name__: [c.client_type.__name__ for c in o.clients]
+                   for o in self._orthogonal_list}
         return describe_model(self.model, self.name, clients)

@@ -14,12 +14,13 @@ import enum
 import logging
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from action_msgs.msg import GoalStatus
-from rclpy.action import ActionClient
-from rclpy.callback_groups import CallbackGroup
-from rclpy.node import Node
+
+if TYPE_CHECKING:
+    from rclpy.callback_groups import CallbackGroup
+    from rclpy.node import Node
 
 _log = logging.getLogger("smacc_py")
 
@@ -60,6 +61,12 @@ class GoalTicket:
         return self._done.is_set()
 
     @property
+    def cancel_requested(self) -> bool:
+        """True once ``cancel`` (or ``abandon``) was called."""
+        with self._lock:
+            return self._cancel_requested
+
+    @property
     def error_code(self) -> int:
         """The result's Nav2 error code (0 when none or not applicable)."""
         return int(getattr(self.result, "error_code", 0) or 0)
@@ -76,6 +83,11 @@ class GoalTicket:
         if self.error_code or self.error_msg:
             return f"{self.outcome.value} (error_code {self.error_code}: {self.error_msg})"
         return self.outcome.value
+
+    def finish(self, outcome: GoalOutcome, result: Any) -> None:
+        """Record how the goal ended (its action client calls this when the result arrives)."""
+        self.outcome, self.result = outcome, result
+        self._done.set()
 
     def cancel(self) -> None:
         """Ask the server to cancel the goal (now, or as soon as it was accepted)."""
@@ -105,6 +117,10 @@ class RosActionClient:
     def __init__(
         self, node: Node, action_type: Any, action_name: str, callback_group: CallbackGroup | None = None
     ) -> None:
+        # Imported here: rclpy.action loads rclpy.node, which importing cl_nav2z (e.g. for unit tests on
+        # substitute clients, which never build a RosActionClient) does not need.
+        from rclpy.action import ActionClient
+
         self.action_type = action_type
         self.action_name = action_name
         self._client = ActionClient(node, action_type, action_name, callback_group=callback_group)
@@ -133,8 +149,7 @@ class RosActionClient:
                 on_feedback(ticket, message.feedback)
 
         def finish(outcome: GoalOutcome, result: Any) -> None:
-            ticket.outcome, ticket.result = outcome, result
-            ticket._done.set()
+            ticket.finish(outcome, result)
             if on_done is not None:
                 on_done(ticket)
 

@@ -10,7 +10,6 @@ import math
 import threading
 from collections.abc import Sequence
 
-from bond.msg import Status
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
@@ -21,7 +20,6 @@ from smacc_py.clients.cl_nav2z.geometry import normalize_angle, quaternion_to_ya
 from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior
 from smacc_py.ros.context import ros_context
 
-BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 AMCL_POSE_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
@@ -69,7 +67,8 @@ class _OneShot(SmaccClientBehavior, ISmaccUpdatable):
 
 class CbWaitNav2Nodes(_OneShot):
     """Success once each node in ``nodes`` heartbeated an active bond on ``topic``; failure after
-    ``timeout_s`` (SMACC2's version never fails). Node ids are Nav2's bond ids (the node names)."""
+    ``timeout_s`` (SMACC2's version never fails). Node ids are Nav2's bond ids (the node names). The
+    subscription belongs to ClNav2Z (``subscribe_bonds``), which must be on the behavior's orthogonal."""
 
     DEFAULT_NODES = ("planner_server", "controller_server", "bt_navigator")
 
@@ -82,14 +81,11 @@ class CbWaitNav2Nodes(_OneShot):
         self.seen: set[str] = set()
 
     def start(self) -> None:
-        ctx = ros_context(self.sm)
-        self._sub = ctx.node.create_subscription(
-            Status, self.topic, self._on_bond, BOND_QOS, callback_group=ctx.callback_group
-        )
+        self._unsubscribe = self.requires_client(ClNav2Z).subscribe_bonds(self._on_bond, self.topic)
 
-    def _on_bond(self, msg: Status) -> None:
-        if msg.active and msg.id in self.nodes:
-            self.seen.add(msg.id)
+    def _on_bond(self, node_id: str, active: bool) -> None:
+        if active and node_id in self.nodes:
+            self.seen.add(node_id)
             if self.seen.issuperset(self.nodes):
                 self.finish(True, nodes=self.nodes)
 
@@ -98,7 +94,7 @@ class CbWaitNav2Nodes(_OneShot):
         return f"no active bond from {missing} within {self.timeout_s} s"
 
     def on_exit(self) -> None:
-        ros_context(self.sm).node.destroy_subscription(self._sub)
+        self._unsubscribe()
 
 
 class CbWaitPose(_OneShot):

@@ -9,6 +9,10 @@ Nav2, this client also holds clients for the Nav2 behavior-server actions that d
 
 Events are posted only for goals somebody still owns: a goal abandoned when its state exited (see
 ``GoalTicket.abandon``) ends silently, so it cannot trigger a transition in the next state.
+
+Every ROS endpoint of the client lives here (action clients, the cmd_vel publisher, the /bond
+subscription of CbWaitNav2Nodes), none in its behaviors: a substitute ClNav2Z given to the machine
+(``SmaccStateMachineBase(substitutes=...)``) then replaces all of Nav2 for the shipped behaviors.
 """
 
 from __future__ import annotations
@@ -16,8 +20,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from bond.msg import Status
 from geometry_msgs.msg import PoseStamped, Twist
 from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from smacc_py.core import (
     EvActionAborted,
@@ -43,6 +49,9 @@ ACTION_TYPES: dict[str, Any] = {
     DRIVE_ON_HEADING: DriveOnHeading,
     FOLLOW_PATH: FollowPath,
 }
+
+#: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
+BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 
 _OUTCOME_EVENTS = {
     GoalOutcome.SUCCEEDED: EvActionSucceeded,
@@ -125,6 +134,26 @@ class ClNav2Z(ISmaccClient):
     ) -> GoalTicket:
         """Send a NavigateToPose goal (default behavior tree)."""
         return self.send_goal(NAVIGATE_TO_POSE, NavigateToPose.Goal(pose=pose), on_done)
+
+    def subscribe_bonds(
+        self, callback: Callable[[str, bool], None], topic: str = "/bond"
+    ) -> Callable[[], None]:
+        """Call ``callback(node_id, active)`` for each bond heartbeat (bond/Status) on ``topic``, on the
+        executor; returns the function that unsubscribes. Nav2's servers heartbeat a bond with their
+        lifecycle manager once active, which is how CbWaitNav2Nodes knows that Nav2 is up."""
+        ctx = ros_context(self.sm)
+
+        def on_status(msg: Status) -> None:
+            callback(msg.id, msg.active)
+
+        subscription = ctx.node.create_subscription(
+            Status, topic, on_status, BOND_QOS, callback_group=ctx.callback_group
+        )
+
+        def unsubscribe() -> None:
+            ctx.node.destroy_subscription(subscription)
+
+        return unsubscribe
 
     def cancel_navigation(self) -> None:
         """Cancel every NavigateToPose goal this client sent that is still running."""

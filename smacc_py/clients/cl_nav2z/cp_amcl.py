@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from geometry_msgs.msg import PoseWithCovarianceStamped
 
-from smacc_py.clients.cl_nav2z.geometry import yaw_to_quaternion
+from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
 from smacc_py.core import ISmaccComponent
 from smacc_py.ros.context import ros_context
 
@@ -20,20 +20,16 @@ class CpAmcl(ISmaccComponent):
         self.published: list[tuple[float, float, float]] = []
 
     def on_initialize(self) -> None:
-        self._node = ros_context(self.sm).node
-        self._pub = self._node.create_publisher(PoseWithCovarianceStamped, self.topic, 10)
+        self._pub = ros_context(self.sm).node.create_publisher(PoseWithCovarianceStamped, self.topic, 10)
 
     def set_initial_pose(
         self, x: float, y: float, yaw: float, covariance: tuple[float, float, float] = DEFAULT_COVARIANCE
     ) -> None:
-        """Publish (x, y in m, yaw in rad) with variances (x, y in m², yaw in rad²), stamped now."""
-        msg = PoseWithCovarianceStamped()
-        msg.header.frame_id = self.frame_id
-        msg.header.stamp = self._node.get_clock().now().to_msg()
-        msg.pose.pose.position.x, msg.pose.pose.position.y = float(x), float(y)
-        qx, qy, qz, qw = yaw_to_quaternion(yaw)
-        msg.pose.pose.orientation.x, msg.pose.pose.orientation.y = qx, qy
-        msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = qz, qw
+        """Publish (x, y in m, yaw in rad) with variances (x, y in m², yaw in rad²), stamped now (machine
+        clock)."""
+        pose = make_pose_stamped(self.frame_id, x, y, yaw, stamp=self.sm.now())
+        msg = PoseWithCovarianceStamped(header=pose.header)
+        msg.pose.pose = pose.pose
         cov = [0.0] * 36
         cov[0], cov[7], cov[35] = covariance
         msg.pose.covariance = cov

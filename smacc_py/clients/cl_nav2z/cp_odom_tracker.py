@@ -11,7 +11,7 @@ from __future__ import annotations
 from nav_msgs.msg import Odometry, Path
 from rclpy.qos import qos_profile_sensor_data
 
-from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
+from smacc_py.clients.cl_nav2z.cp_pose import make_header, make_pose_stamped
 from smacc_py.clients.cl_nav2z.geometry import Pose2D, quaternion_to_yaw
 from smacc_py.clients.cl_nav2z.odom_path import OdomPath, OdomTrackerParams, WorkingMode
 from smacc_py.core import ISmaccComponent
@@ -36,7 +36,6 @@ class CpOdomTracker(ISmaccComponent):
 
     def on_initialize(self) -> None:
         ctx = ros_context(self.sm)
-        self._node = ctx.node
         self._path_pub = ctx.node.create_publisher(Path, "odom_tracker_path", 1)
         self._stacked_pub = ctx.node.create_publisher(Path, "odom_tracker_stacked_path", 1)
         self._sub = ctx.node.create_subscription(
@@ -63,9 +62,7 @@ class CpOdomTracker(ISmaccComponent):
         self._stacked_pub.publish(self._path_msg(self.paths.stacked_path()))
 
     def _path_msg(self, poses: list[Pose2D]) -> Path:
-        msg = Path()
-        msg.header.frame_id = self.odom_frame
-        msg.header.stamp = self._node.get_clock().now().to_msg()
+        msg = Path(header=make_header(self.odom_frame, self.sm.now()))
         msg.poses = [make_pose_stamped(self.odom_frame, *pose) for pose in poses]
         return msg
 

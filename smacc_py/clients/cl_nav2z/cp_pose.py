@@ -10,6 +10,7 @@ import logging
 import threading
 
 from geometry_msgs.msg import PoseStamped
+from std_msgs.msg import Header
 
 from ros_tools.tf import TransformError
 from smacc_py.clients.cl_nav2z.geometry import Pose2D, yaw_to_quaternion
@@ -69,12 +70,19 @@ class CpPose(ISmaccComponent, ISmaccUpdatable):
         return make_pose_stamped(self.reference_frame, *pose, stamp=self.sm.now())
 
 
+def make_header(frame_id: str, stamp: float = 0.0) -> Header:
+    """A Header in ``frame_id`` stamped ``stamp`` s (0: latest). cl_nav2z stamps with the machine clock
+    (``sm.now()``, the node clock under the ROS runtime), so its messages carry sim time when it is on."""
+    header = Header(frame_id=frame_id)
+    header.stamp.sec = int(stamp)
+    header.stamp.nanosec = int((stamp - int(stamp)) * 1e9)
+    return header
+
+
 def make_pose_stamped(frame_id: str, x: float, y: float, yaw: float, stamp: float = 0.0) -> PoseStamped:
     """A PoseStamped at (x, y, yaw) in ``frame_id``; ``stamp`` in s (0: latest)."""
     msg = PoseStamped()
-    msg.header.frame_id = frame_id
-    msg.header.stamp.sec = int(stamp)
-    msg.header.stamp.nanosec = int((stamp - int(stamp)) * 1e9)
+    msg.header = make_header(frame_id, stamp)
     msg.pose.position.x, msg.pose.position.y = float(x), float(y)
     qx, qy, qz, qw = yaw_to_quaternion(yaw)
     msg.pose.orientation.x, msg.pose.orientation.y = qx, qy

@@ -1,11 +1,16 @@
 """Planner, controller and goal-checker selection for Nav2's BT selector nodes.
 
-Nav2's PlannerSelector/ControllerSelector/GoalCheckerSelector BT nodes subscribe ``planner_selector``,
+Nav2's PlannerSelector/ControllerSelector/GoalCheckerSelector BT nodes (and nav_stack's planner and
+controller servers and bt_navigator, ``nav_stack/ros/selectors.py``) subscribe ``planner_selector``,
 ``controller_selector`` and ``goal_checker_selector`` (std_msgs/String) with reliable + transient local
-QoS, depth 1, so a selection published before the BT starts still applies. The presets keep SMACC2's
-names; SMACC2's own forward/backward/pure-spinning/undo planner plugins do not exist in a standard
-Nav2 (nor in nav_stack), which is why the motion behaviors here use the behavior-server actions and
-only ``set_default_planners`` selects plugins that exist.
+QoS, depth 1, so a selection published before the BT starts still applies.
+
+Presets name only plugins that nav_stack declares (config/nav2_params.yaml: ``planner_plugins``,
+``controller_plugins``); a test reads the file to keep it so. SMACC2's other presets select its own
+planner plugins (forward, backward, undo-path, pure-spinning), which neither a standard Nav2 nor
+nav_stack has: a server given such an id aborts every goal (INVALID_PLANNER / INVALID_CONTROLLER), so
+``set_preset`` refuses them, naming the missing plugin and the cl_nav2z behavior that does that motion
+with the behavior-server actions instead.
 """
 
 from __future__ import annotations
@@ -20,12 +25,17 @@ SELECTOR_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
 
+#: Preset name → (planner id, controller id), all declared by nav_stack's planner and controller servers.
 PRESETS: dict[str, tuple[str, str]] = {
     "default": ("GridBased", "FollowPath"),
-    "forward": ("ForwardGlobalPlanner", "ForwardLocalPlanner"),
-    "backward": ("BackwardGlobalPlanner", "BackwardLocalPlanner"),
-    "undo_path_backward": ("UndoPathGlobalPlanner", "BackwardLocalPlanner"),
-    "pure_spinning": ("ForwardGlobalPlanner", "PureSpinningLocalPlanner"),
+}
+
+#: SMACC2 presets whose plugins do not exist here → (planner id, controller id, what to use instead).
+SMACC2_ONLY_PRESETS: dict[str, tuple[str, str, str]] = {
+    "forward": ("ForwardGlobalPlanner", "ForwardLocalPlanner", "CbNavigateForward (drive_on_heading)"),
+    "backward": ("BackwardGlobalPlanner", "BackwardLocalPlanner", "CbNavigateBackwards (backup)"),
+    "undo_path_backward": ("UndoPathGlobalPlanner", "BackwardLocalPlanner", "CbUndoPathBackwards"),
+    "pure_spinning": ("ForwardGlobalPlanner", "PureSpinningLocalPlanner", "CbPureSpinning or CbRotate"),
 }
 
 
@@ -57,7 +67,15 @@ class CpPlannerSwitcher(ISmaccComponent):
         self._controller_pub.publish(String(data=self.desired_controller))
 
     def set_preset(self, name: str) -> None:
-        """Select and publish a preset (``PRESETS``); ValueError naming the known ones."""
+        """Select and publish a preset (``PRESETS``). ValueError, publishing nothing, for SMACC2's presets
+        whose plugins do not exist here (naming the plugin and the alternative) and for unknown names."""
+        if name in SMACC2_ONLY_PRESETS:
+            planner, controller, instead = SMACC2_ONLY_PRESETS[name]
+            raise ValueError(
+                f"CpPlannerSwitcher: preset {name!r} selects planner {planner!r} and controller "
+                f"{controller!r}, SMACC2's own plugins, which nav_stack does not declare "
+                f"(config/nav2_params.yaml); use {instead} instead. Presets: {sorted(PRESETS)}"
+            )
         try:
             self.desired_planner, self.desired_controller = PRESETS[name]
         except KeyError:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from smacc_py.core import SmaccStateMachineBase
 from smacc_py.ros.context import ros_context
@@ -42,13 +43,24 @@ class SmNav2Test1Params:
 
 
 class SmNav2Test1(SmaccStateMachineBase):
-    """sm_nav2_gazebo_test_1 (reference/smacc2.md §2); parameters in ``self.config``."""
+    """sm_nav2_gazebo_test_1 (reference/smacc2.md §2); parameters in ``self.config``.
+
+    ``config`` given: the machine uses it instead of declaring its ROS parameters, so it also runs without
+    a node (on substitute clients, ``substitutes=``), as the unit test of the mission does.
+    """
 
     initial_state = st.StAllSensorsGo
     config: SmNav2Test1Params
 
+    def __init__(self, *, config: SmNav2Test1Params | None = None, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._given_config = config
+
     def on_initialize(self) -> None:
-        self.config = declare_dataclass_params(ros_context(self).node, SmNav2Test1Params)
+        given = self._given_config
+        self.config = given if given is not None else declare_dataclass_params(
+            ros_context(self).node, SmNav2Test1Params
+        )
         self.create_orthogonal(OrTimer)
         self.create_orthogonal(OrKeyboard)
         self.create_orthogonal(OrNavigation)

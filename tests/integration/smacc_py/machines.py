@@ -19,7 +19,9 @@ from smacc_py.clients.cl_nav2z import (
     CbWaitNav2Nodes,
     ClNav2Z,
     CpAmcl,
+    CpGoalCheckerSwitcher,
     CpOdomTracker,
+    CpPlannerSwitcher,
     CpPose,
     CpWaypointNavigator,
 )
@@ -94,6 +96,48 @@ class StSpin(SmaccState, parent=SmSpin):
 
 
 _outcome_states(SmSpin)
+
+
+# ------------------------------------------------------------------ CbPureSpinning cut short by a state exit
+SPIN_INTERRUPT_S = 2.0  # sim s; the full turn would take more than 12 s at 0.5 rad/s
+
+
+class SmSpinInterrupted(_Sm):
+    initial_state = "StSpinLong"
+
+
+class StSpinLong(SmaccState, parent=SmSpinInterrupted):
+    reactions = [
+        Transition(EvTimer[CbTimerCountdownOnce, OrTime], "StDone", SUCCESS),
+        Transition(EvCbSuccess[CbPureSpinning, OrNav], "StFailed", ABORT),
+        Transition(EvCbFailure[CbPureSpinning, OrNav], "StFailed", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNav, CbPureSpinning, 2 * math.pi, 0.5, timeout_s=60.0)
+        cls.configure_orthogonal(OrTime, CbTimerCountdownOnce, SPIN_INTERRUPT_S)
+
+
+_outcome_states(SmSpinInterrupted)
+
+
+# ------------------------------------------------------------------ planner / goal-checker selection
+class OrSelectors(Orthogonal):
+    def on_initialize(self) -> None:
+        client = self.create_client(ClNav2Z)
+        client.create_component(CpPlannerSwitcher)
+        client.create_component(CpGoalCheckerSwitcher)
+
+
+class SmSelectors(SmaccStateMachineBase):
+    initial_state = "StIdle"
+
+    def on_initialize(self) -> None:
+        self.create_orthogonal(OrSelectors)
+
+
+type("StIdle", (SmaccState,), {}, parent=SmSelectors)
 
 
 # ------------------------------------------------------------------ CbWaitNav2Nodes timeout

@@ -10,7 +10,8 @@ from geometry_msgs.msg import Twist
 from rclpy.executors import SingleThreadedExecutor
 from std_msgs.msg import UInt16
 
-from smacc_py.clients.cl_nav2z import CpOdomTracker
+from nav_stack.ros.selectors import Selector
+from smacc_py.clients.cl_nav2z import CpGoalCheckerSwitcher, CpOdomTracker, CpPlannerSwitcher
 from tests.helpers.ros import spin_until, wait_until
 from tests.integration.smacc_py import machines as m
 from tests.integration.smacc_py.conftest import transition_keys
@@ -47,6 +48,55 @@ def test_pure_spinning_fails_on_timeout_and_stops_the_robot(stack) -> None:  # t
     assert runtime.sm.transition_log[-1].stamp_s - 1000.0 >= 8.0  # measured on sim time
     assert any(t.angular.z != 0.0 for t in fake.twists)
     wait_until(lambda: fake.twists[-1].angular.z == 0.0, 5.0, "the final zero twist")
+
+
+def test_pure_spinning_stops_the_robot_when_its_state_exits_mid_spin(stack) -> None:  # type: ignore[no-untyped-def]
+    fake, runtime = stack(m.SmSpinInterrupted)
+    assert _wait_leaf(runtime, {"StDone", "StFailed"}) == "StDone"  # left on the timer, not the spin
+    assert runtime.sm.transition_log[-1].stamp_s - 1000.0 >= m.SPIN_INTERRUPT_S
+    assert any(t.angular.z > 0.0 for t in fake.twists)  # it was turning
+    wait_until(lambda: fake.twists and fake.twists[-1].angular.z == 0.0, 5.0, "the zero twist on exit")
+    published, yaw = len(fake.twists), fake.map_pose()[2]
+    assert 0.0 < yaw < 2 * math.pi - 0.5  # cut short well before the full turn
+    # Ten control periods of sim time later, the behavior has published nothing more: its loop ended.
+    until_s = fake.sim_s + 1.0
+    wait_until(lambda: fake.sim_s > until_s, 10.0, "1 s of sim time after the exit")
+    assert len(fake.twists) == published
+    assert fake.map_pose()[2] == pytest.approx(yaw)
+
+
+def test_switchers_publish_latched_selections_nav_stack_reads(stack, ros_context) -> None:  # type: ignore[no-untyped-def]
+    _fake, runtime = stack(m.SmSelectors)
+    _wait_leaf(runtime, {"StIdle"})
+    planner = runtime.sm.requires_component(CpPlannerSwitcher)
+    checker = runtime.sm.requires_component(CpGoalCheckerSwitcher)
+    planner.set_default_planners()  # before anybody subscribes: transient local must keep them
+    checker.set_goal_checker_id()
+    with pytest.raises(ValueError, match="preset 'forward' selects planner 'ForwardGlobalPlanner'"):
+        planner.set_preset("forward")
+    probe = rclpy.create_node("selector_probe", context=ros_context)
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(probe)
+    try:
+        # nav_stack's own subscriber (planner_server, controller_server and bt_navigator use it).
+        topics = ("planner_selector", "controller_selector", "goal_checker_selector")
+        selectors = [Selector(probe, topic) for topic in topics]
+
+        def selected() -> list[str]:
+            return [selector.selected for selector in selectors]
+
+        spin_until(executor, lambda: selected() == ["GridBased", "FollowPath", "goal_checker"], 10.0,
+                   "the selections published before the probe existed")
+        assert {probe.resolve_topic_name(t) for t in topics} == {f"/{t}" for t in topics}
+        planner.set_desired_global_planner("ThetaStar")
+        planner.set_desired_controller("DWB")
+        planner.commit_publish()
+        checker.set_goal_checker_id("stopped_goal_checker")
+        spin_until(executor, lambda: selected() == ["ThetaStar", "DWB", "stopped_goal_checker"], 10.0,
+                   "the new selections")
+    finally:
+        executor.shutdown()
+        probe.destroy_node()
 
 
 def test_wait_nav2_nodes_fails_on_timeout_naming_the_missing_node(stack) -> None:  # type: ignore[no-untyped-def]

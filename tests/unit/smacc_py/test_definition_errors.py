@@ -3,8 +3,12 @@
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
+
 import pytest
 
+import smacc_py.state_machines
 from smacc_py.core import (
     SUCCESS,
     EvCbSuccess,
@@ -107,6 +111,75 @@ def test_unreachable_state_raises_naming_it() -> None:
     with pytest.raises(InvalidDefinitionError, match=r"SmIsland: state\(s\) StIsland are "
                                                      "declared but unreachable"):
         SmIsland.validate()
+
+
+def test_free_top_level_state_that_nothing_reaches_raises_at_start_naming_it() -> None:
+    class StPatrol(SmaccState):
+        pass
+
+    class StDock(SmaccState):
+        reactions = [Transition(EvGo, StPatrol)]
+
+    class StForgotten(SmaccState):  # leads into the machine, but no transition leads here
+        reactions = [Transition(EvGo, StDock)]
+
+    class SmFree(SmaccStateMachineBase):
+        initial_state = StDock
+
+    with pytest.raises(InvalidDefinitionError, match=r"SmFree: state\(s\) StForgotten are declared but "
+                                                     "unreachable from the initial state StDock"):
+        SmFree()
+
+
+def test_free_states_reached_and_free_templates_pass() -> None:
+    class _StTimed(SmaccState):  # a base other states subclass is a template, not a state
+        pass
+
+    class StEnd(_StTimed):
+        pass
+
+    class StStart(_StTimed):
+        reactions = [Transition(EvGo, StEnd)]
+
+    class SmFreeOk(SmaccStateMachineBase):
+        initial_state = StStart
+
+    sm = SmFreeOk()
+    sm.start()
+    sm.post_event(EvGo)
+    sm.process_events()
+    assert sm.current_state_names() == ["StEnd"]
+
+
+def test_unreachable_inner_state_of_a_free_superstate_raises_naming_it() -> None:
+    class SsFree(SmaccState):
+        pass
+
+    class StiFirst(SmaccState, parent=SsFree):
+        pass
+
+    class StiLost(SmaccState, parent=SsFree):
+        pass
+
+    SsFree.inner_initial_state = StiFirst
+
+    class SmSuper(SmaccStateMachineBase):
+        initial_state = SsFree
+
+    with pytest.raises(InvalidDefinitionError, match=r"SmSuper: state\(s\) StiLost are declared but "
+                                                     "unreachable"):
+        SmSuper()
+
+
+def _shipped_machines() -> list[str]:
+    return sorted(m.name for m in pkgutil.iter_modules(smacc_py.state_machines.__path__) if m.ispkg)
+
+
+@pytest.mark.parametrize("name", _shipped_machines())
+def test_every_shipped_state_machine_passes_the_definition_checks(name: str) -> None:
+    machine = importlib.import_module(f"smacc_py.state_machines.{name}").STATE_MACHINE
+    model = machine.validate()
+    assert model.initial is not None
 
 
 def test_bad_static_configuration_raises_at_class_definition() -> None:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord, describe_state_machine
 from smacc_py.core.graph_export import to_dot, to_mermaid
-from tests.helpers.smacc_fake_nav import NavScript
+from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1, SmNav2Test1Params
+from tests.helpers.smacc_fake_nav import ScriptedNav2
 from tests.unit.smacc_py.test_dispatch import EvError, EvGo, EvNext, EvResume, SmHistory
-from tests.unit.smacc_py.test_sm_nav2_test_1_fake import FakeClock, SmNav2Test1
 
 
 def test_description_mirrors_the_declarations_without_running_anything() -> None:
@@ -30,8 +30,9 @@ def test_description_mirrors_the_declarations_without_running_anything() -> None
 
 
 def test_instance_description_adds_client_names() -> None:
-    sm = SmNav2Test1(NavScript(), FakeClock())
-    sm.initialize()
+    world = ScriptedNav2()
+    sm = SmNav2Test1(now=world.clock, substitutes=world.substitutes(), config=SmNav2Test1Params())
+    sm.initialize()  # the stand-in ClNav2Z is described as the client it stands in for
     nav = next(o for o in sm.describe().state("StRotate").orthogonals if o.name == "OrNavigation")
     assert nav.client_names == ("ClNav2Z",) and nav.client_behavior_names == ("CbPureSpinning",)
 

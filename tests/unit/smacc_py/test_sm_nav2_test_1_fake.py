@@ -1,224 +1,120 @@
-"""The pure part of sm_nav2_gazebo_test_1 (real Jazzy package, reference/smacc2.md §2) on scripted fakes.
+"""The shipped sm_nav2_test_1 (states, orthogonals, tags, retry logic) on scripted clients, without ROS.
 
-States, orthogonals, behaviors, tags and the retry counter mirror the real package: NAV2_READY, the
-15 s timer fallback, key N, RETRY self-transitions counted in global data with EvMaxRetriesExceeded →
-ABORT after 1 + 3 attempts. Each test asserts the exact (source, target, tag) sequence.
+The machine is ``SmNav2Test1`` itself; only its ROS-facing clients and components are replaced, through
+``substitutes=``, by the stand-ins of tests/helpers/smacc_fake_nav.py. The nominal run must give
+``NOMINAL_TRANSITIONS``, the sequence the integration test (FakeNav2 over DDS) and the system test (the
+real stack) assert as well.
 """
-
 
 from __future__ import annotations
 
-import logging
-import math
+from collections.abc import Callable, Iterator
+from typing import Any
 
 import pytest
 
-from smacc_py.core import (
-    ABORT,
-    SUCCESS,
-    EvActionAborted,
-    EvActionSucceeded,
-    EvCbFailure,
-    EvCbSuccess,
-    EvTimer,
-    SmaccEvent,
-    SmaccState,
-    SmaccStateMachineBase,
-    Transition,
-    key_press_event,
+from smacc_py.clients.cl_nav2z import ClNav2Z, CpAmcl
+from smacc_py.state_machines.sm_nav2_test_1 import (
+    NOMINAL_TRANSITIONS,
+    SmNav2Test1,
+    SmNav2Test1Params,
+    StSetInitialPose,
 )
-from tests.helpers.smacc_fake_nav import (
-    CbDefaultKeyboardBehavior,
-    CbNavigateGlobalPosition,
-    CbPureSpinning,
-    CbTimerCountdownOnce,
-    CbWaitNav2Nodes,
-    ClKeyboard,
-    ClNav2Z,
-    CpAmcl,
-    NavScript,
-    OrKeyboard,
-    OrNavigation,
-    OrTimer,
-)
+from tests.helpers.smacc_fake_nav import Nav2Script, ScriptedNav2
 
-log = logging.getLogger("sm_nav2_test_1")
+Mission = tuple[SmNav2Test1, ScriptedNav2]
+OUTSIDE_THE_MAP = (6.0, 0.0, 0.0)
 
 
-class NAV2_READY(SUCCESS):
-    pass
+@pytest.fixture
+def mission() -> Iterator[Callable[..., Mission]]:
+    """``mission(config=..., **script)``: SmNav2Test1 started on a ScriptedNav2 world (stopped afterwards)."""
+    worlds: list[ScriptedNav2] = []
+
+    def start(config: SmNav2Test1Params | None = None, **script: Any) -> Mission:
+        world = ScriptedNav2(Nav2Script(**script))
+        worlds.append(world)
+        return world.start(SmNav2Test1, config=config or SmNav2Test1Params()), world
+
+    yield start
+    for world in worlds:
+        world.close()
 
 
-class NEXT(SUCCESS):
-    pass
-
-
-class RETRY(SUCCESS):
-    pass
-
-
-class EvMaxRetriesExceeded(SmaccEvent):
-    pass
-
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.t = 0.0
-
-    def __call__(self) -> float:
-        return self.t
-
-
-class SmNav2Test1(SmaccStateMachineBase):
-    initial_state = "StAllSensorsGo"
-
-    def __init__(self, script: NavScript, clock: FakeClock) -> None:
-        self.nav_script = script
-        super().__init__(now=clock)
-
-    def on_initialize(self) -> None:
-        self.create_orthogonal(OrTimer)
-        self.create_orthogonal(OrKeyboard)
-        self.create_orthogonal(OrNavigation)
-
-
-class StAllSensorsGo(SmaccState, parent=SmNav2Test1):
-    reactions = [
-        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StSetInitialPose", NAV2_READY),
-        Transition(EvTimer[CbTimerCountdownOnce, OrTimer], "StSetInitialPose", SUCCESS),
-        Transition(key_press_event("N")[CbDefaultKeyboardBehavior, OrKeyboard], "StSetInitialPose", NEXT),
-    ]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
-        cls.configure_orthogonal(OrTimer, CbTimerCountdownOnce, 15.0)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
-
-
-class StSetInitialPose(SmaccState, parent=SmNav2Test1):
-    MAX_RETRIES = 3
-    MAX_ATTEMPTS = 1 + MAX_RETRIES
-    ATTEMPT_COUNTER_KEY = "localization_attempt_count"
-
-    reactions = [
-        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
-        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StSetInitialPose", RETRY),
-        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
-    ]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
-
-    def runtime_configure(self) -> None:
-        attempts = self.get_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0) + 1
-        self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, attempts)
-        if attempts > self.MAX_ATTEMPTS:
-            self.post_event(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation])
-            return
-        self.requires_client(ClNav2Z).get_component(CpAmcl).set_initial_pose(-2.0, -0.5, 0.0)
-
-    def on_exit_SUCCESS(self) -> None:
-        self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0)
-
-    def on_exit_ABORT(self) -> None:
-        log.error("StSetInitialPose: localization failed after max retries, aborting")
-
-
-class StNavigateToWaypoint1(SmaccState, parent=SmNav2Test1):
-    reactions = [
-        Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StRotate", SUCCESS),
-        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
-    ]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateGlobalPosition, 2.0, 0.0, 0.0)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
-
-
-class StRotate(SmaccState, parent=SmNav2Test1):
-    reactions = [
-        Transition(EvCbSuccess[CbPureSpinning, OrNavigation], "StNavigateToWaypoint2", SUCCESS),
-        Transition(EvCbFailure[CbPureSpinning, OrNavigation], "StFinalState", ABORT),
-    ]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbPureSpinning, math.pi, 0.5)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
-
-
-class StNavigateToWaypoint2(SmaccState, parent=SmNav2Test1):
-    reactions = [
-        Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StFinalState", SUCCESS),
-        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
-    ]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateGlobalPosition, 0.0, 0.0, 0.0)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
-
-
-class StFinalState(SmaccState, parent=SmNav2Test1):
-    def on_entry(self) -> None:
-        log.info("Mission Complete")
-
-
-def _run(script: NavScript) -> tuple[SmNav2Test1, FakeClock]:
-    clock = FakeClock()
-    sm = SmNav2Test1(script, clock)
-    sm.start()
-    sm.process_events()
-    return sm, clock
-
-
-def _keys(sm: SmaccStateMachineBase) -> list[tuple[str, str, str]]:
+def _keys(sm: SmNav2Test1) -> list[tuple[str, str, str]]:
     return [record.key() for record in sm.transition_log]
 
 
-TAIL = [
-    ("StNavigateToWaypoint1", "StRotate", "SUCCESS"),
-    ("StRotate", "StNavigateToWaypoint2", "SUCCESS"),
-    ("StNavigateToWaypoint2", "StFinalState", "SUCCESS"),
-]
+def _finished(sm: SmNav2Test1) -> Callable[[], bool]:
+    return lambda: sm.current_state_names() == ["StFinalState"]
 
 
-def test_nominal_mission_goes_nav2_ready_then_through_both_waypoints() -> None:
-    sm, _ = _run(NavScript(readiness=("success", "success"), goals=("succeeded", "succeeded"),
-                           spins=("success",)))
-    assert _keys(sm) == [
-        ("StAllSensorsGo", "StSetInitialPose", "NAV2_READY"),
-        ("StSetInitialPose", "StNavigateToWaypoint1", "SUCCESS"),
-        *TAIL,
-    ]
-    nav = sm.requires_client(ClNav2Z)
-    assert nav.goals_sent == [(2.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
-    assert nav.get_component(CpAmcl).initial_poses == [(-2.0, -0.5, 0.0)]
-    assert sm.current_state_names() == ["StFinalState"]
-    assert sm.get_global_sm_data("localization_attempt_count") == 0  # reset by on_exit_SUCCESS
+def test_nominal_mission_gives_the_nominal_transitions(mission: Callable[..., Mission]) -> None:
+    sm, world = mission()
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm) == list(NOMINAL_TRANSITIONS)
+    config = SmNav2Test1Params()
+    goals = world.navigation_goals(sm)
+    assert goals == [pytest.approx(config.waypoint_1), pytest.approx(config.waypoint_2)]
+    assert sm.requires_component(CpAmcl).published == [config.initial_pose]
+    # CbPureSpinning turned the robot half a turn (within its 0.1 rad tolerance) and stopped it.
+    twists = world.base.twists
+    assert max(t.angular.z for t in twists) == pytest.approx(0.5)
+    assert (twists[-1].linear.x, twists[-1].angular.z) == (0.0, 0.0)
+    assert sm.get_global_sm_data(StSetInitialPose.ATTEMPT_COUNTER_KEY) == 0  # reset by on_exit_SUCCESS
 
 
-def test_timer_fallback_fires_after_15_s_of_machine_clock() -> None:
-    sm, clock = _run(NavScript(readiness=("pending", "success"), goals=("succeeded", "succeeded"),
-                               spins=("success",)))
-    clock.t = 14.9
-    sm.update()
-    sm.process_events()
-    assert _keys(sm) == []
-    clock.t = 15.0
-    sm.update()
-    sm.process_events()
-    assert _keys(sm)[0] == ("StAllSensorsGo", "StSetInitialPose", "SUCCESS")
-    assert _keys(sm)[1:] == [("StSetInitialPose", "StNavigateToWaypoint1", "SUCCESS"), *TAIL]
+def test_waypoints_come_from_the_configuration(mission: Callable[..., Mission]) -> None:
+    config = SmNav2Test1Params(waypoint_1=(1.5, 0.25, 0.0), waypoint_2=(0.5, -1.0, 1.0))
+    sm, world = mission(config)
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm) == list(NOMINAL_TRANSITIONS)
+    assert world.navigation_goals(sm) == [pytest.approx((1.5, 0.25, 0.0)), pytest.approx((0.5, -1.0, 1.0))]
 
 
-def test_key_n_advances_from_all_sensors_go_only() -> None:
-    sm, _ = _run(NavScript(readiness=("pending", "pending")))
-    keyboard = sm.requires_client(ClKeyboard)
+def test_unreachable_waypoint_1_aborts_with_the_nav2_error(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(SmNav2Test1Params(waypoint_1=OUTSIDE_THE_MAP))
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm) == [*NOMINAL_TRANSITIONS[:2], ("StNavigateToWaypoint1", "StFinalState", "ABORT")]
+    event = sm.transition_log[-1].event
+    assert (event.error_code, event.error_msg) == (204, "Goal outside map")
+    assert len(world.navigation_goals(sm)) == 1
+
+
+@pytest.mark.parametrize(
+    ("config", "script", "last"),
+    [
+        (SmNav2Test1Params(), {"robot_moves": False}, ("StRotate", "StFinalState", "ABORT")),
+        (SmNav2Test1Params(waypoint_2=OUTSIDE_THE_MAP), {},
+         ("StNavigateToWaypoint2", "StFinalState", "ABORT")),
+    ],
+    ids=["spin-times-out", "waypoint-2-unreachable"],
+)
+def test_later_failures_abort_to_the_final_state(
+    mission: Callable[..., Mission], config: SmNav2Test1Params, script: dict[str, Any],
+    last: tuple[str, str, str],
+) -> None:
+    sm, world = mission(config, **script)
+    assert world.drive(sm, _finished(sm))
+    keys = _keys(sm)
+    assert keys[:-1] == list(NOMINAL_TRANSITIONS[: len(keys) - 1])
+    assert keys[-1] == last
+
+
+def test_timer_fallback_fires_after_15_s_of_machine_clock(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(bonds=(False, True))  # Nav2 silent in StAllSensorsGo only
+    assert world.drive(sm, lambda: bool(sm.transition_log))
+    first = sm.transition_log[0]
+    assert first.key() == ("StAllSensorsGo", "StSetInitialPose", "SUCCESS")
+    assert type(first.event).__name__ == "EvTimer[CbTimerCountdownOnce, OrTimer]"
+    assert 15.0 <= first.stamp_s < 15.5
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm)[1:] == list(NOMINAL_TRANSITIONS[1:])
+
+
+def test_key_n_advances_from_all_sensors_go_only(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(bonds=(False, False))
+    keyboard = world.keyboard(sm)
     keyboard.press("n")
     sm.process_events()
     assert _keys(sm) == [("StAllSensorsGo", "StSetInitialPose", "NEXT")]
@@ -227,38 +123,33 @@ def test_key_n_advances_from_all_sensors_go_only() -> None:
     assert sm.current_state_names() == ["StSetInitialPose"]
 
 
-def test_retries_then_aborts_after_four_attempts() -> None:
-    sm, _ = _run(NavScript(readiness=("success", "failure", "failure", "failure", "failure")))
+def test_localization_retries_then_max_retries_exceeded_aborts(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(bonds=(True, False, False, False, False))
+    assert world.drive(sm, _finished(sm))
     assert _keys(sm) == [
-        ("StAllSensorsGo", "StSetInitialPose", "NAV2_READY"),
-        *[("StSetInitialPose", "StSetInitialPose", "RETRY")] * 4,
+        NOMINAL_TRANSITIONS[0],
+        *[("StSetInitialPose", "StSetInitialPose", "RETRY")] * StSetInitialPose.MAX_ATTEMPTS,
         ("StSetInitialPose", "StFinalState", "ABORT"),
     ]
-    assert len(sm.requires_client(ClNav2Z).get_component(CpAmcl).initial_poses) == 4
-    assert sm.get_global_sm_data("localization_attempt_count") == 5  # on_exit_SUCCESS never ran
+    assert type(sm.transition_log[-1].event).__name__ == "EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation]"
+    assert len(sm.requires_component(CpAmcl).published) == StSetInitialPose.MAX_ATTEMPTS
+    assert sm.get_global_sm_data(StSetInitialPose.ATTEMPT_COUNTER_KEY) == StSetInitialPose.MAX_ATTEMPTS + 1
+    assert world.navigation_goals(sm) == []
 
 
-def test_retry_then_success_resets_the_counter_only_on_exact_success_tag() -> None:
-    sm, _ = _run(NavScript(readiness=("success", "failure", "success"), goals=("succeeded", "succeeded"),
-                           spins=("success",)))
-    assert _keys(sm)[:3] == [
-        ("StAllSensorsGo", "StSetInitialPose", "NAV2_READY"),
+def test_retry_then_success_resets_the_counter_on_the_success_tag(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(bonds=(True, False, True))
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm) == [
+        NOMINAL_TRANSITIONS[0],
         ("StSetInitialPose", "StSetInitialPose", "RETRY"),
-        ("StSetInitialPose", "StNavigateToWaypoint1", "SUCCESS"),
+        *NOMINAL_TRANSITIONS[1:],
     ]
-    assert sm.get_global_sm_data("localization_attempt_count") == 0
+    assert sm.get_global_sm_data(StSetInitialPose.ATTEMPT_COUNTER_KEY) == 0
 
 
-@pytest.mark.parametrize(
-    ("goals", "spins", "last"),
-    [
-        (("aborted",), (), ("StNavigateToWaypoint1", "StFinalState", "ABORT")),
-        (("succeeded",), ("failure",), ("StRotate", "StFinalState", "ABORT")),
-        (("succeeded", "aborted"), ("success",), ("StNavigateToWaypoint2", "StFinalState", "ABORT")),
-    ],
-)
-def test_navigation_failures_abort_to_final_state(goals: tuple[str, ...], spins: tuple[str, ...],
-                                                  last: tuple[str, str, str]) -> None:
-    sm, _ = _run(NavScript(readiness=("success", "success"), goals=goals, spins=spins))
-    assert _keys(sm)[-1] == last
-    assert sm.current_state_names() == ["StFinalState"]
+def test_the_machine_is_the_shipped_one_with_stand_in_clients(mission: Callable[..., Mission]) -> None:
+    sm, _ = mission()
+    nav = sm.requires_client(ClNav2Z)
+    assert type(nav).__name__ == "ScriptedClNav2Z" and nav.client_type is ClNav2Z
+    assert [type(o).__name__ for o in sm.orthogonals] == ["OrTimer", "OrKeyboard", "OrNavigation"]

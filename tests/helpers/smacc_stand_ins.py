@@ -1,0 +1,216 @@
+"""Stand-ins for the ROS endpoints of cl_nav2z, cl_ros2_timer and cl_keyboard (see smacc_fake_nav.py).
+
+Each class subclasses the real client or component and overrides only what touches ROS: the publishers
+and subscriptions of ``on_initialize``, ClNav2Z's action clients and bond subscription, ClRos2Timer's
+node timers. Everything else (event posting, goal bookkeeping, presets, paths) is the shipped code.
+``ScriptedNav2.substitutes()`` maps each real type to its stand-in.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from std_msgs.msg import UInt16
+
+from smacc_py.clients.cl_keyboard import ClKeyboard
+from smacc_py.clients.cl_nav2z import (
+    ClNav2Z,
+    CpAmcl,
+    CpGoalCheckerSwitcher,
+    CpOdomTracker,
+    CpPlannerSwitcher,
+    CpPose,
+)
+from smacc_py.clients.cl_nav2z.client import ACTION_TYPES, NAVIGATE_TO_POSE
+from smacc_py.clients.cl_ros2_timer import ClRos2Timer
+from smacc_py.core import ISmaccUpdatable
+from smacc_py.ros.action_client import DoneCallback, FeedbackCallback, GoalOutcome, GoalTicket
+
+if TYPE_CHECKING:
+    from tests.helpers.smacc_fake_nav import ScriptedNav2
+
+#: The bond ids Nav2's lifecycle_manager_navigation holds.
+NAV2_BOND_NODES = ("controller_server", "planner_server", "behavior_server", "bt_navigator",
+                   "waypoint_follower")
+
+
+class RecordingPublisher:
+    """Stands in for an rclpy Publisher: keeps every message."""
+
+    def __init__(self) -> None:
+        self.messages: list[Any] = []
+
+    def publish(self, msg: Any) -> None:
+        self.messages.append(msg)
+
+
+class ScriptedActionClient:
+    """Stands in for RosActionClient: the server is always up; goals end on the next ``settle``."""
+
+    def __init__(self, world: ScriptedNav2, key: str, action_name: str) -> None:
+        self.world, self.key, self.action_name = world, key, action_name
+        self.goals: list[Any] = []
+        self._pending: list[tuple[GoalTicket, str, DoneCallback | None]] = []
+        self._lock = threading.Lock()
+
+    def server_ready(self) -> bool:
+        return True
+
+    def send_goal(self, goal: Any, on_done: DoneCallback | None = None,
+                  on_feedback: FeedbackCallback | None = None) -> GoalTicket:
+        ticket = GoalTicket(self.action_name, goal)
+        with self._lock:
+            self.goals.append(goal)
+            self._pending.append((ticket, self.world.decide(self.key, goal), on_done))
+        return ticket
+
+    def active_tickets(self) -> list[GoalTicket]:
+        with self._lock:
+            return [ticket for ticket, _, _ in self._pending]
+
+    def cancel_all(self) -> None:
+        for ticket in self.active_tickets():
+            ticket.cancel()
+
+    def settle(self) -> None:
+        """End every pending goal as decided (a held goal only once cancelled)."""
+        with self._lock:
+            pending, self._pending = self._pending, []
+        held = []
+        for ticket, decision, on_done in pending:
+            if ticket.cancel_requested:
+                outcome = GoalOutcome.CANCELED
+            elif decision == "hold":
+                held.append((ticket, decision, on_done))
+                continue
+            else:
+                outcome = GoalOutcome.SUCCEEDED if decision == "succeeded" else GoalOutcome.ABORTED
+            ticket.finish(outcome, self.world.result(self.key, ticket.goal, outcome))
+            if on_done is not None:
+                on_done(ticket)
+        with self._lock:
+            self._pending[:0] = held
+
+    def destroy(self) -> None:
+        pass
+
+
+class ScriptedClNav2Z(ClNav2Z, ISmaccUpdatable):
+    """ClNav2Z with scripted action servers, the fake base as cmd_vel subscriber, scripted bonds."""
+
+    def __init__(self, world: ScriptedNav2, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.world = world
+        self._bond_listeners: list[Callable[[str, bool], None]] = []
+
+    def on_initialize(self) -> None:
+        self._clients = {key: ScriptedActionClient(self.world, key, self.action_names[key])  # type: ignore[misc]
+                         for key in ACTION_TYPES}
+        self._cmd_vel = self.world.base  # type: ignore[assignment]  # the base subscribes cmd_vel
+
+    def subscribe_bonds(
+        self, callback: Callable[[str, bool], None], topic: str = "/bond"
+    ) -> Callable[[], None]:
+        if not self.world.next_bonds_up():
+            return lambda: None
+        self._bond_listeners.append(callback)
+        return lambda: self._bond_listeners.remove(callback)
+
+    def update(self) -> None:
+        for client in self._clients.values():
+            client.settle()  # type: ignore[attr-defined]
+        for listener in list(self._bond_listeners):
+            for node_id in NAV2_BOND_NODES:
+                listener(node_id, True)
+
+    def action_log(self, key: str = NAVIGATE_TO_POSE) -> ScriptedActionClient:
+        """The scripted server of ``key``, with the goals it received."""
+        return self._clients[key]  # type: ignore[return-value]
+
+
+class ScriptedCpPose(CpPose):
+    """CpPose looking the robot up in the fake base instead of TF."""
+
+    def __init__(self, world: ScriptedNav2, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.world = world
+
+    def on_initialize(self) -> None:
+        self._listener = self.world.base  # type: ignore[assignment]
+
+
+class ScriptedCpAmcl(CpAmcl):
+    """CpAmcl publishing into a RecordingPublisher."""
+
+    def on_initialize(self) -> None:
+        self._pub = RecordingPublisher()  # type: ignore[assignment]
+
+
+class ScriptedCpOdomTracker(CpOdomTracker):
+    """CpOdomTracker without the /odom subscription; paths go to RecordingPublishers."""
+
+    def on_initialize(self) -> None:
+        self._path_pub = RecordingPublisher()  # type: ignore[assignment]
+        self._stacked_pub = RecordingPublisher()  # type: ignore[assignment]
+
+
+class ScriptedCpPlannerSwitcher(CpPlannerSwitcher):
+    """CpPlannerSwitcher publishing into RecordingPublishers."""
+
+    def on_initialize(self) -> None:
+        self._planner_pub = RecordingPublisher()  # type: ignore[assignment]
+        self._controller_pub = RecordingPublisher()  # type: ignore[assignment]
+
+
+class ScriptedCpGoalCheckerSwitcher(CpGoalCheckerSwitcher):
+    """CpGoalCheckerSwitcher publishing into a RecordingPublisher."""
+
+    def on_initialize(self) -> None:
+        self._pub = RecordingPublisher()  # type: ignore[assignment]
+
+
+class ScriptedTimer:
+    """A node timer on the machine clock: due every ``period_s`` from its creation."""
+
+    def __init__(self, period_s: float, callback: Callable[[], None], now_s: float) -> None:
+        self.period_s, self.callback, self.next_s = period_s, callback, now_s + period_s
+        self.cancelled = False
+
+    def cancel(self) -> None:
+        self.cancelled = True
+
+
+class ScriptedClRos2Timer(ClRos2Timer, ISmaccUpdatable):
+    """ClRos2Timer whose timers fire on the machine's polls."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.timers: list[ScriptedTimer] = []
+
+    def create_timer(self, period_s: float, callback: Callable[[], None]) -> ScriptedTimer:
+        timer = ScriptedTimer(period_s, callback, self.sm.now())
+        self.timers.append(timer)
+        return timer
+
+    def destroy_timer(self, timer: Any) -> None:
+        timer.cancel()
+        self.timers.remove(timer)
+
+    def update(self) -> None:
+        now = self.sm.now()
+        for timer in list(self.timers):
+            if not timer.cancelled and now >= timer.next_s:
+                timer.next_s += timer.period_s
+                timer.callback()
+
+
+class ScriptedClKeyboard(ClKeyboard):
+    """ClKeyboard without the subscription; ``press`` plays a /keyboard_unicode message."""
+
+    def on_initialize(self) -> None:
+        pass
+
+    def press(self, key: str) -> None:
+        self._on_key(UInt16(data=ord(key)))
