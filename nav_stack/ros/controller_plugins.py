@@ -10,7 +10,7 @@ rate from ``controller_frequency``, as in Nav2, not from its own parameters.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from rclpy.node import Node
@@ -30,7 +30,7 @@ from nav_stack.core.control import (
 )
 from nav_stack.core.control.server import LocalController
 from nav_stack.ros.param_layout import build, declare_fields, declare_renamed, param
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.params import declare_dataclass, on_dataclass_update
 
 DWB_CRITIC_NAMES = {
     "base_obstacle_scale": "BaseObstacle.scale",
@@ -123,3 +123,28 @@ def build_plugins(
         else:
             raise _unknown(node, cid, kind, ["DWBLocalPlanner", "RegulatedPurePursuitController"])
     return ControllerPlugins(controllers, goal_checkers, progress)
+
+
+def take_param_updates(node: Node, controllers: Mapping[str, LocalController]) -> list[Any]:
+    """Let ``ros2 param set /controller_server FollowPath.desired_linear_vel 0.15`` (or a DWB knob,
+    ``DWB.max_vel_x``) change a running controller from its next cycle, as Nav2's controllers do.
+    Returns the parameter callbacks, to remove at cleanup."""
+    callbacks = []
+    for cid, controller in controllers.items():
+        renames = DWB_CRITIC_NAMES if isinstance(controller, DWBController) else None
+        callbacks.append(on_dataclass_update(node, type(controller.params), f"{cid}.",
+                                             _params_of(controller), _replace_params(node, cid, controller),
+                                             renames))
+    return callbacks
+
+
+def _params_of(controller: Any) -> Callable[[], Any]:
+    return lambda: controller.params
+
+
+def _replace_params(node: Node, cid: str, controller: Any) -> Callable[[Any], None]:
+    def replace(params: Any) -> None:
+        controller.params = params
+        node.get_logger().info(f"{cid}: parameters updated")
+
+    return replace

@@ -47,7 +47,7 @@ from nav_stack.core.control import (
 )
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.cmd_vel import CmdVelPublisher
-from nav_stack.ros.controller_plugins import build_plugins
+from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
 from nav_stack.ros.conversions import path_from_array, path_to_array
 from nav_stack.ros.costmap_ros import CostmapROS, run_transition
 from nav_stack.ros.frames import FrameError
@@ -120,6 +120,7 @@ class ControllerServer(NavLifecycleNode):
         self.plugins: ControllerPlugins = build_plugins(
             self, p.controller_plugins, p.goal_checker_plugins, p.progress_checker_plugins, footprint,
             costmap.inscribed_radius, p.controller_frequency)
+        self._param_callbacks = take_param_updates(self, self.plugins.controllers)
         self._cmd = CmdVelPublisher(self, p.enable_stamped_cmd_vel, cp.robot_base_frame)
         self._pub_local_plan = self.create_publisher(Path, "local_plan", DEFAULT)
         self._selectors = [Selector(self, "controller_selector"), Selector(self, "goal_checker_selector")]
@@ -145,6 +146,8 @@ class ControllerServer(NavLifecycleNode):
         run_transition(self.costmap_node, "deactivate")
 
     def cleanup(self) -> None:
+        for callback in self._param_callbacks:
+            self.remove_on_set_parameters_callback(callback)
         self._server.destroy()
         for selector in self._selectors:
             selector.destroy()

@@ -4,18 +4,20 @@ Each core keeps its parameters in one frozen dataclass whose field names and def
 A node declares every field as a ROS parameter (optionally under a prefix such as
 ``"FollowPath."``), so values come from a ``ros__parameters`` YAML file or ``--ros-args -p``, and
 builds the dataclass from the result. An invalid value fails with a message that names the node,
-the parameter and the value.
+the parameter and the value. ``on_dataclass_update`` lets a node take changes at run time.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import typing
+from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
 import yaml
-from rcl_interfaces.msg import ParameterDescriptor
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 T = TypeVar("T")
 
@@ -84,3 +86,37 @@ def declare_dataclass(node: Node, cls: type[T], prefix: str = "", **overrides: A
         raise ValueError(
             f"{node.get_name()}: invalid parameters for {cls.__name__}: {error} ({shown})"
         ) from error
+
+
+def on_dataclass_update(node: Node, cls: type[T], prefix: str, current: Callable[[], T],
+                        apply: Callable[[T], None], renames: Mapping[str, str] | None = None
+                        ) -> Callable[[list[Parameter]], SetParametersResult]:
+    """Take run-time changes of ``<prefix><field>`` parameters (``ros2 param set``), as Nav2's
+    plugins do in their ``dynamicParametersCallback``.
+
+    The changed fields are applied to ``current()`` with ``dataclasses.replace``, so the dataclass
+    validates them together; ``apply`` receives the new instance. A rejected value leaves the old
+    parameters in place, and the reason names the node, the parameter and the value. ``renames`` maps
+    fields declared under Nav2 spellings (DWB's ``PathAlign.scale``). Returns the callback, for
+    ``node.remove_on_set_parameters_callback`` at cleanup.
+    """
+    hints = typing.get_type_hints(cls)
+    spelled = renames or {}
+    fields = {prefix + spelled.get(f.name, f.name): f.name
+              for f in dataclasses.fields(cls) if f.init}  # type: ignore[arg-type]
+
+    def check_and_apply(parameters: list[Parameter]) -> SetParametersResult:
+        changes = {fields[p.name]: _coerce(p.value, hints.get(fields[p.name], Any))
+                   for p in parameters if p.name in fields}
+        if not changes:
+            return SetParametersResult(successful=True)
+        try:
+            updated = dataclasses.replace(current(), **changes)  # type: ignore[type-var]
+        except (TypeError, ValueError) as error:
+            shown = ", ".join(f"{prefix}{spelled.get(k, k)}={v!r}" for k, v in changes.items())
+            return SetParametersResult(successful=False, reason=f"{node.get_name()}: {error} ({shown})")
+        apply(updated)
+        return SetParametersResult(successful=True)
+
+    node.add_on_set_parameters_callback(check_and_apply)
+    return check_and_apply

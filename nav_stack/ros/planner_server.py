@@ -49,7 +49,7 @@ from nav_stack.ros.frames import FrameError
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.selectors import Selector
 
 #: plugin type (last part of ``<id>.plugin``) -> (parameter dataclass, planner class)
@@ -81,11 +81,13 @@ class PlannerServer(NavLifecycleNode):
         self._active = False
         self.core: PlannerServerCore | None = None
         self._entities: list[Any] = []
+        self._param_callbacks: list[Any] = []
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
         self.params = declare_dataclass(self, PlannerServerParams)
         planners: dict[str, GlobalPlanner] = {}
+        updates: list[tuple[str, type, Any]] = []
         for planner_id in self.params.planner_plugins:
             plugin = str(param(self, f"{planner_id}.plugin", DEFAULT_PLUGIN.get(planner_id, "")))
             kind = plugin.replace("/", "::").split("::")[-1]
@@ -93,8 +95,11 @@ class PlannerServer(NavLifecycleNode):
                 raise ValueError(f"planner_server: {planner_id}.plugin '{plugin}' is not one of "
                                  f"{sorted(PLANNER_TYPES)}")
             params_cls, planner_cls = PLANNER_TYPES[kind]
-            planners[planner_id] = planner_cls(declare_dataclass(self, params_cls, f"{planner_id}."))
+            values: Any = declare_dataclass(self, params_cls, f"{planner_id}.")
+            planners[planner_id] = planner_cls(values)
+            updates.append((planner_id, planner_cls, values))
         self.core = PlannerServerCore(planners)
+        self._param_callbacks = [self._take_param_updates(*update) for update in updates]
         run_transition(self.costmap_node, "configure")
         self._pub_plan = self.create_publisher(Path, "plan", QoSProfile(depth=1))
         self._selector = Selector(self, "planner_selector")
@@ -117,7 +122,24 @@ class PlannerServer(NavLifecycleNode):
         self._active = False
         run_transition(self.costmap_node, "deactivate")
 
+    def _take_param_updates(self, planner_id: str, planner_cls: type, values: Any) -> Any:
+        """``ros2 param set /planner_server GridBased.tolerance 0.0`` rebuilds that planner with the new
+        values (Nav2's planners take tolerance, use_astar, allow_unknown, ... at run time too)."""
+        core = self.core
+        assert core is not None
+        latest = {"params": values}
+
+        def rebuild(params: Any) -> None:
+            latest["params"] = params
+            core.planners[planner_id] = planner_cls(params)
+            self.get_logger().info(f"{planner_id}: parameters updated")
+
+        return on_dataclass_update(self, type(values), f"{planner_id}.", lambda: latest["params"], rebuild)
+
     def cleanup(self) -> None:
+        for callback in self._param_callbacks:
+            self.remove_on_set_parameters_callback(callback)
+        self._param_callbacks = []
         for entity in self._entities:
             entity.destroy() if isinstance(entity, ActionServer) else self.destroy_service(entity)
         self._entities = []

@@ -8,7 +8,7 @@ INVALID_CONTROLLER (101), raised as :class:`InvalidController` for the node to r
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from nav_stack.core.control.base import ControllerError, ControllerErrorCode, CostGrid, Twist2D
 from nav_stack.core.control.checkers import SimpleGoalChecker, SimpleProgressChecker
@@ -19,6 +19,8 @@ T = TypeVar("T")
 
 class LocalController(Protocol):
     """A controller plugin: robot state, local path and costmap in, command out (or ControllerError)."""
+
+    params: Any  # its frozen parameter dataclass, replaced whole when a parameter changes at run time
 
     def reset(self) -> None: ...
 

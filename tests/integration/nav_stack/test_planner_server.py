@@ -17,8 +17,10 @@ from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
+from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.core.map_io import load_map
@@ -168,3 +170,29 @@ def test_map_pillars_are_where_the_sim_has_them() -> None:
     loaded = load_map(MAP_YAML)
     mx, my = loaded.spec.world_to_cell(0.0, 0.0)
     assert loaded.data[my, mx] == 100
+
+
+def _set(probe: Node, name: str, value: float) -> SetParameters.Response:
+    """Set one planner_server parameter over its service, as ``ros2 param set`` does."""
+    client = probe.create_client(SetParameters, "/planner_server/set_parameters")
+    assert client.wait_for_service(10.0)
+    request = SetParameters.Request(parameters=[Parameter(name, value=value).to_parameter_msg()])
+    future = client.call_async(request)
+    wait_until(future.done, 10.0, f"setting {name}")
+    return future.result()
+
+
+def test_tolerance_set_at_run_time_changes_the_next_plan(planner: Any) -> None:
+    """(0, 0) is inside the centre pillar: NavFn plans to the nearest free cell within ``tolerance``
+    (0.5 m, Nav2's yaml), and refuses it with GOAL_OCCUPIED once the tolerance is 0."""
+    probe, _, _, client = planner
+    status, result = plan(client, goal_pose(0.0, 0.0), "GridBased")
+    assert status == GoalStatus.STATUS_SUCCEEDED, result.error_msg
+    assert _set(probe, "GridBased.tolerance", 0.0).results[0].successful
+    status, result = plan(client, goal_pose(0.0, 0.0), "GridBased")
+    assert (status, result.error_code) == (GoalStatus.STATUS_ABORTED, Codes.GOAL_OCCUPIED), result.error_msg
+    refused = _set(probe, "GridBased.tolerance", -1.0).results[0]
+    assert not refused.successful and "GridBased.tolerance=-1.0" in refused.reason
+    assert _set(probe, "GridBased.tolerance", 0.5).results[0].successful
+    status, result = plan(client, goal_pose(0.0, 0.0), "GridBased")
+    assert status == GoalStatus.STATUS_SUCCEEDED, result.error_msg
