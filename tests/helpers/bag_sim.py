@@ -1,4 +1,4 @@
-"""A short sim2d run recorded with ``navsuite-bag record``, and a topic counter for playback tests.
+"""A short sim2d run recorded with ``navsuite-bag record`` (replayed by tests/helpers/bag_replay.py).
 
 sim2d runs as a child process at a real-time factor of 5; a Twist publisher (its own rclpy
 context, spun in a background thread) drives the robot in an arc while the recorder CLI records
@@ -13,9 +13,8 @@ import math
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import rclpy
 from geometry_msgs.msg import Twist
@@ -23,11 +22,10 @@ from nav_msgs.msg import Odometry
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile
 
+from tests.helpers.bag_replay import BAG_CLI
 from tests.helpers.ros import start_python, stop_process, wait_until
 
-BAG_CLI = "ros_tools.bag.main"
 #: Sim seconds to record; with --rtf 5 that is under a second of wall time.
 RECORD_SECONDS = 3.0
 #: Wall-clock bounds for a loaded 2-core machine; a passing run is much faster.
@@ -94,26 +92,3 @@ def record_sim(out: Path) -> Recording:
         stop_process(sim)
     assert recorder.returncode == 0, output
     return Recording(out, output)
-
-
-@dataclass
-class TopicCounter:
-    """Subscriptions on one node that count messages per topic and keep /clock values (ns)."""
-
-    node: Node
-    counts: dict[str, int] = field(default_factory=dict)
-    clock_ns: list[int] = field(default_factory=list)
-    _subscriptions: list[Any] = field(default_factory=list)
-
-    def watch(self, topic: str, msg_type: type, latched: bool = False) -> None:
-        """Count ``topic`` (reliable, deep queue; transient local for latched topics)."""
-        qos = QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL if latched
-                         else DurabilityPolicy.VOLATILE)
-        self.counts[topic] = 0
-
-        def on_message(msg: Any) -> None:
-            self.counts[topic] += 1
-            if topic == "/clock":
-                self.clock_ns.append(msg.clock.sec * 1_000_000_000 + msg.clock.nanosec)
-
-        self._subscriptions.append(self.node.create_subscription(msg_type, topic, on_message, qos))

@@ -1,4 +1,5 @@
-"""Fakes for the viewer tests: what map_server, AMCL, a costmap, a SMACC2 machine and bt_navigator publish.
+"""Fakes for the viewer tests: what map_server, AMCL, the costmaps, planner and controller, the waypoint
+panel, a SMACC2 machine and bt_navigator publish.
 
 Each fake owns publishers on a node the test created (so the test's context and executor own it)
 and publishes exactly the messages and QoS the real producers use (nav2.md §2, smacc2.md §1).
@@ -6,12 +7,15 @@ and publishes exactly the messages and QoS the real producers use (nav2.md §2, 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
+from action_msgs.msg import GoalInfo, GoalStatus, GoalStatusArray
 from builtin_interfaces.msg import Time
-from nav2_msgs.msg import BehaviorTreeLog, BehaviorTreeStatusChange
-from nav_msgs.msg import OccupancyGrid
+from geometry_msgs.msg import Point32, PolygonStamped, Pose, PoseStamped
+from nav2_msgs.msg import BehaviorTreeLog, BehaviorTreeStatusChange, Particle, ParticleCloud
+from nav_msgs.msg import OccupancyGrid, Path
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import (
@@ -22,6 +26,7 @@ from smacc2_msgs.msg import (
     SmaccTransition,
     SmaccTransitionLogEntry,
 )
+from visualization_msgs.msg import Marker, MarkerArray
 
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
 from ros_tools.tf.transform import Transform
@@ -29,6 +34,64 @@ from ros_tools.tf.transform import Transform
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 KEEP_LAST_1 = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
+#: AMCL's /particle_cloud: best effort, so a viewer subscribing reliable would never match it.
+BEST_EFFORT = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
+#: What an action server's ``_action/status`` topic offers (rclpy's qos_profile_action_status_default).
+ACTION_STATUS = LATCHED
+
+XyYaw = tuple[float, float, float]
+
+
+def pose_msg(x: float, y: float, yaw: float) -> Pose:
+    """A planar pose as a geometry_msgs/Pose."""
+    pose = Pose()
+    pose.position.x, pose.position.y = x, y
+    pose.orientation.z, pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return pose
+
+
+def particle_cloud(poses: Sequence[XyYaw], frame: str = "map") -> ParticleCloud:
+    """AMCL's nav2_msgs/ParticleCloud with equal weights."""
+    msg = ParticleCloud(particles=[Particle(pose=pose_msg(*p), weight=1.0 / len(poses)) for p in poses])
+    msg.header.frame_id = frame
+    return msg
+
+
+def path(poses: Sequence[XyYaw], frame: str = "map") -> Path:
+    """A nav_msgs/Path as the planner (/plan) or the controller (/local_plan, odom frame) publishes."""
+    msg = Path()
+    msg.header.frame_id = frame
+    for p in poses:
+        stamped = PoseStamped(pose=pose_msg(*p))
+        stamped.header.frame_id = frame
+        msg.poses.append(stamped)
+    return msg
+
+
+def footprint(points: Sequence[tuple[float, float]], frame: str = "odom") -> PolygonStamped:
+    """The local costmap's published_footprint: the robot outline already placed in ``frame``."""
+    msg = PolygonStamped()
+    msg.header.frame_id = frame
+    msg.polygon.points = [Point32(x=float(x), y=float(y)) for x, y in points]
+    return msg
+
+
+def waypoint_markers(poses: Sequence[XyYaw], frame: str = "map") -> MarkerArray:
+    """What Nav2's RViz panel publishes on /waypoints: an arrow and a number label per waypoint."""
+    markers = []
+    for i, p in enumerate(poses):
+        for kind in (Marker.ARROW, Marker.TEXT_VIEW_FACING):
+            marker = Marker(id=2 * i + (kind == Marker.TEXT_VIEW_FACING), type=kind, action=Marker.ADD,
+                            pose=pose_msg(*p), text=str(i + 1) if kind == Marker.TEXT_VIEW_FACING else "")
+            marker.header.frame_id = frame
+            markers.append(marker)
+    return MarkerArray(markers=markers)
+
+
+def goal_statuses(goals: Sequence[tuple[int, int]]) -> GoalStatusArray:
+    """An action's status list from ``(GoalStatus code, acceptance stamp in s)`` per goal."""
+    return GoalStatusArray(status_list=[
+        GoalStatus(status=code, goal_info=GoalInfo(stamp=Time(sec=sec))) for code, sec in goals])
 
 
 def occupancy_grid(cells: np.ndarray, resolution: float, origin: tuple[float, float],

@@ -1,9 +1,11 @@
 """The whole stack started by nav-bringup (sim2d + localization + navigation processes), driven over
 its action interfaces like the Nav2 system test: reach (0, 2) from the spawn pose, preemption,
-cancel stops the robot, the planner's code surfaced for a goal off the map, a bad tree refused.
+cancel stops the robot, the planner's code surfaced for a goal off the map and for one inside a pillar,
+a bad tree refused; and ros2's command line (``ros2py``) driving the same robot to a goal and changing
+its speed and the planner's tolerance with ``param set``.
 
-(A goal inside a pillar is planned to the nearest free cell within NavFn's 0.5 m tolerance, as in
-Nav2, so GOAL_OCCUPIED is covered with a scripted planner in tests/integration instead.)"""
+A goal inside a pillar is planned to the nearest free cell within NavFn's tolerance (0.5 m in Nav2's
+yaml), as in Nav2, so the pillar test first sets the tolerance to 0 over ``param set``."""
 
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ from rclpy.node import Node
 
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
@@ -132,3 +135,54 @@ def test_cancel_stops_the_robot(client):
     wait(cancel.done, 30.0, "the cancel response")
     assert client.result(handle, 60.0).status == GoalStatus.STATUS_CANCELED
     wait(lambda: client.speed() < 0.01, 30.0, "the robot to stop")
+
+
+def test_ros2py_send_goal_drives_the_robot_to_the_goal(client):
+    """What a user types to test Nav2 by hand: ``ros2 action send_goal … --feedback``, here ``ros2py``."""
+    goal = "{pose: {header: {frame_id: map}, pose: {position: {x: 0.55, y: -0.55}, orientation: {w: 1.0}}}}"
+    x, y = 0.55, -0.55  # the middle of a free square between four pillars
+    done = run_cli("action", "send_goal", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose", goal,
+                   "--feedback", *DISCOVERY, timeout=240.0)
+    assert done.code == 0, done.output[-3000:]
+    assert done.lines[-1] == "Goal finished with status: SUCCEEDED"
+    (result,) = done.blocks("Result")
+    assert result["error_code"] == 0, result
+    feedback = done.blocks("Feedback")
+    assert feedback, done.output[-3000:]
+    assert {f["current_pose"]["header"]["frame_id"] for f in feedback} == {"map"}
+    remaining = [f["distance_remaining"] for f in feedback]  # 0 until the first plan exists
+    assert max(remaining) > 0.5 and remaining[-1] < 0.5, remaining
+    # The goal checker accepts 0.25 m from AMCL's estimate, which is a few cm off the truth.
+    pose = client.truth[-1].pose.pose.position
+    assert math.hypot(pose.x - x, pose.y - y) <= 0.3, (pose.x, pose.y)
+
+
+def _param_set(node: str, name: str, value: str) -> None:
+    done = run_cli("param", "set", node, name, value, *DISCOVERY)
+    assert done.code == 0 and "Set parameter successful" in done.output, done.output
+
+
+def test_goal_inside_a_pillar_aborts_with_goal_occupied(client):
+    """(0, 0) is the centre pillar (upstream sm_nav2_gazebo_test_1's second waypoint)."""
+    _param_set("/planner_server", "GridBased.tolerance", "0.0")
+    try:
+        response = client.result(client.send(nav_goal(0.0, 0.0)))
+    finally:
+        _param_set("/planner_server", "GridBased.tolerance", "0.5")
+    assert response.status == GoalStatus.STATUS_ABORTED
+    assert response.result.error_code == 206, response.result.error_msg
+    assert "GOAL_OCCUPIED" in response.result.error_msg
+
+
+def test_param_set_caps_the_speed_of_the_next_goal(client):
+    """``ros2py param set /controller_server FollowPath.desired_linear_vel 0.1``: the next drive stays
+    under 0.1 m/s (ground truth), where the default drives at 0.26 m/s."""
+    _param_set("/controller_server", "FollowPath.desired_linear_vel", "0.1")
+    try:
+        start = len(client.truth)
+        response = client.result(client.send(nav_goal(-0.55, -0.55)))  # between four pillars
+        speeds = [abs(o.twist.twist.linear.x) for o in client.truth[start:]]
+    finally:
+        _param_set("/controller_server", "FollowPath.desired_linear_vel", "0.26")
+    assert response.status == GoalStatus.STATUS_SUCCEEDED, response.result.error_msg
+    assert 0.08 < max(speeds) <= 0.11, max(speeds)

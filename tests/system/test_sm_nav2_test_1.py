@@ -1,28 +1,43 @@
 """navsuite-demo against the real stack (sim2d + nav_stack via ``nav-bringup``): the tutorial end to end.
 
+The successful run is also the check of what the demo leaves behind, so no second full run is paid:
+its run report (printed path, a PNG that shows the run; copied to artifacts/) and its recording,
+which ``navsuite-bag play`` must put back on the graph with the topics and counts ``info`` lists.
+Reports go to the test's tmp_path, so tests never overwrite a user's artifacts/demo_report.*.
+
 Slow: it starts the whole simulator and navigation stack. Skipped until nav_stack.ros.bringup exists.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
+from rclpy.context import Context
 
 pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
 
+from ros_tools.report.render import AMCL_COLOR, TRUTH_COLOR
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
+from smacc_py.state_machines.sm_nav2_test_1.demo import REPLAY_TOPICS
+from tests.helpers.bag_replay import bag_info, play_and_count
+from tests.helpers.report_pixels import content_fraction, distinct_colors, load_rgb, pixels_near
 from tests.helpers.ros import REPO
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
 # The whole Python stack keeps up with about 1-2x real time on two cores (see README).
 RTF = os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0")
+#: The mission's ~40 s of recording replay in ~10 s; the player and the counter keep up with that.
+REPLAY_RATE = "4"
+ARTIFACT = REPO / "artifacts" / "test_demo_report.png"
 
 
-def _demo(*args: str, timeout: float = 900.0) -> subprocess.CompletedProcess[str]:
+def _demo(report: Path, *args: str, timeout: float = 900.0) -> subprocess.CompletedProcess[str]:
     cmd = [
         sys.executable,
         "-m",
@@ -30,6 +45,8 @@ def _demo(*args: str, timeout: float = 900.0) -> subprocess.CompletedProcess[str
         "--rtf",
         RTF,
         "--quiet",
+        "--report",
+        str(report),
         *args,
     ]
     return subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=timeout)
@@ -43,17 +60,54 @@ def _transitions(stdout: str) -> list[str]:
     ]
 
 
+def _check_report(stdout: str, report: Path) -> None:
+    """The report's path is printed, and the PNG shows a run rather than an empty frame."""
+    assert f"[demo] run report: {report.resolve()}" in stdout.splitlines(), stdout[-3000:]
+    ARTIFACT.parent.mkdir(exist_ok=True)
+    shutil.copyfile(report, ARTIFACT)  # kept for a look when a pixel count below fails
+    rgb = load_rgb(report)
+    assert distinct_colors(rgb) > 50
+    assert content_fraction(rgb) > 0.04  # a report of an empty recording has about 0.02
+    assert (rgb < 40).all(axis=2).mean() > 0.01  # the map's walls
+    # a successful run of this mission draws about 850 ground-truth and 2000 AMCL pixels
+    assert pixels_near(rgb, TRUTH_COLOR) > 400
+    assert pixels_near(rgb, AMCL_COLOR) > 400
+
+
+def _check_replay(bag: Path, context: Context) -> None:
+    """``play`` of the demo's recording yields exactly the topics and counts ``info`` lists.
+
+    The demo's processes have all exited, so the test's ROS domain holds only the player and the
+    fresh context's counter. Counts are compared exactly, latched topics (/map, /tf_static,
+    /amcl_pose) included: every subscription is matched before the player starts (it waits for
+    subscribers), all recorded topics are reliable, and the player waits for every message to be
+    acknowledged before it exits.
+    """
+    recorded = {topic: count for topic, (_type, count) in bag_info(bag).items()}
+    assert set(REPLAY_TOPICS) <= recorded.keys(), recorded
+    # what the robot sensed and did is there (/local_plan stays empty under a controller without a
+    # local trajectory, such as Regulated Pure Pursuit)
+    assert all(recorded[topic] > 0 for topic in ("/scan", "/odom", "/tf", "/tf_static", "/cmd_vel")), recorded
+    replay = play_and_count(context, bag, list(recorded), recorded, ["--rate", REPLAY_RATE],
+                            timeout=180.0)
+    assert replay.returncode == 0, replay.output
+    assert replay.counts == recorded
+
+
 @pytest.mark.timeout(900)
-def test_demo_completes_the_mission_through_success() -> None:
-    done = _demo("--timeout", "600")
+def test_demo_completes_the_mission_through_success(tmp_path: Path, ros_context: Context) -> None:
+    report = tmp_path / "demo_report.png"
+    done = _demo(report, "--timeout", "600")
     assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]
     assert "result: SUCCESS" in done.stdout
+    _check_report(done.stdout, report)
+    _check_replay(report.with_suffix(".mcap"), ros_context)
 
 
 @pytest.mark.timeout(900)
-def test_waypoint_outside_the_map_aborts_and_says_why() -> None:
-    done = _demo("--timeout", "600", "--waypoint1", "5.0,3.0,1.57")
+def test_waypoint_outside_the_map_aborts_and_says_why(tmp_path: Path) -> None:
+    done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint1", "5.0,3.0,1.57")
     assert done.returncode == 1, done.stdout[-5000:] + done.stderr[-2000:]
     transitions = _transitions(done.stdout)
     assert transitions[:2] == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS[:2]]

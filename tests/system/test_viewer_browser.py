@@ -9,14 +9,16 @@ publishes /goal_pose. It asserts the goal *publication* only; whether the robot 
 ``test_robot_reaches_a_goal_clicked_in_the_browser``, which runs only when the nav stack's
 ``nav-bringup`` (nav_stack.ros.bringup) exists and skips otherwise.
 
-A screenshot is saved to artifacts/ (gitignored). Needs /usr/bin/chromium and the ``playwright``
-package (never ``playwright install``); skips with the reason when either is missing.
+A screenshot is saved to artifacts/ (gitignored). Needs a ``chromium`` on PATH (Debian's package; the
+same check scripts/setup.sh makes) and the ``playwright`` package (never ``playwright install``); skips
+with the reason when either is missing.
 """
 
 from __future__ import annotations
 
 import importlib.util
 import math
+import shutil
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -27,7 +29,6 @@ import pytest
 from tests.helpers.ros import REPO, start_python, stop_process, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--no-first-run", "--disable-sync"]
 ARTIFACTS = REPO / "artifacts"
@@ -39,14 +40,15 @@ WAIT = 60.0
 
 @pytest.fixture
 def browser() -> Iterator[object]:
-    if not CHROMIUM.exists():
-        pytest.skip("needs Debian's chromium at /usr/bin/chromium (apt-get install chromium)")
+    chromium_path = shutil.which("chromium")  # what scripts/setup.sh checks (command -v chromium)
+    if chromium_path is None:
+        pytest.skip("needs Debian's chromium on PATH (apt-get install chromium)")
     if importlib.util.find_spec("playwright") is None:
         pytest.skip("needs the playwright package (pip install playwright; no browser download needed)")
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        chromium = p.chromium.launch(executable_path=chromium_path, args=CHROMIUM_ARGS, headless=True)
         try:
             yield chromium
         finally:

@@ -11,9 +11,11 @@ Examples::
     navsuite-demo --rtf 5
     navsuite-demo --waypoint1 5.0,3.0,1.57      # outside the map: ABORT, and the output says why
 
-The run is recorded (the report's topics only) and, after shutdown, turned into a run report PNG
-(map, true and AMCL trajectories, plans, goals, collisions, state-machine timeline, localization
-error) whose path is printed: artifacts/demo_report.png by default, ``--no-report`` to skip.
+The run is recorded to ``<report>.mcap`` (the report's topics plus the robot's sensors, odometry,
+TF, velocity commands and local plans, so ``navsuite-bag play`` can show the run again in the viewer
+or Foxglove) and, after shutdown, turned into a run report PNG (map, true and AMCL trajectories,
+plans, goals, collisions, state-machine timeline, localization error) whose path is printed:
+artifacts/demo_report.png by default, ``--report PATH`` elsewhere, ``--no-report`` to skip both.
 """
 
 from __future__ import annotations
@@ -65,11 +67,21 @@ REPORT_DEFAULT = Path("artifacts") / "demo_report.png"
 #: What the run report draws: map, true and estimated trajectories, plans, goals, collisions, transitions.
 REPORT_TOPICS = ("/map", "/ground_truth", "/amcl_pose", "/plan", "/goal_pose", "/sim2d/collisions",
                  "/SmNav2Test1/smacc/transition_log")
+#: Recorded besides, so a replay shows what the robot sensed and did (about 100 small messages per sim
+#: second, some 1-2 MB per run compressed). Left out on purpose: /particle_cloud (AMCL builds its
+#: 2000-pose cloud only while someone subscribes, so recording it would load the run it records),
+#: /clock (``play --clock`` regenerates it) and the costmaps (full grids, megabytes each second).
+REPLAY_TOPICS = ("/scan", "/odom", "/tf", "/tf_static", "/cmd_vel", "/local_plan")
+RECORDED_TOPICS = REPORT_TOPICS + REPLAY_TOPICS
 
 
 def recorder_spec(report: Path) -> ProcessSpec:
-    """A navsuite-bag recorder of the report's topics, writing ``<report>.mcap`` (stopped by SIGINT)."""
-    pattern = "^(" + "|".join(re.escape(topic) for topic in REPORT_TOPICS) + ")$"
+    """A navsuite-bag recorder of RECORDED_TOPICS, writing ``<report>.mcap`` (stopped by SIGINT).
+
+    A regex rather than a topic list: a listed topic must get a publisher within a timeout, and
+    /sim2d/collisions or /plan may legitimately never be published before the run ends.
+    """
+    pattern = "^(" + "|".join(re.escape(topic) for topic in RECORDED_TOPICS) + ")$"
     return ProcessSpec("record", [sys.executable, "-m", "ros_tools.bag.main", "record", "-e", pattern,
                                   "--use-sim-time", "-o", str(report.with_suffix(".mcap"))],
                        required=False)

@@ -1,7 +1,8 @@
 """Fixtures for the ros2py CLI tests: live nodes spun in a background thread, and CLI runners.
 
 The CLI runs as a child process (``python -m ros_tools.cli.main``) that inherits the test's
-ROS_DOMAIN_ID, exactly as a user's shell would run ``ros2py``.
+ROS_DOMAIN_ID, exactly as a user's shell would run ``ros2py``; one-shot runs are
+tests/helpers/ros_cli.py's ``run_cli``.
 """
 
 from __future__ import annotations
@@ -15,35 +16,7 @@ from dataclasses import dataclass, field
 import pytest
 
 from tests.helpers.ros import start_python, wait_until
-
-CLI = "ros_tools.cli.main"
-#: Generous bounds for a loaded 2-core machine; a passing run is much faster.
-DISCOVERY = ["--timeout", "15"]
-PROCESS_TIMEOUT = 40.0
-
-
-@dataclass
-class CliResult:
-    """Exit code and combined stdout+stderr of one finished CLI run."""
-
-    code: int
-    output: str
-
-    @property
-    def lines(self) -> list[str]:
-        return self.output.splitlines()
-
-
-def run_cli(*args: str, timeout: float = PROCESS_TIMEOUT) -> CliResult:
-    """Run ``ros2py <args>`` to completion."""
-    proc = start_python(CLI, args)
-    try:
-        output, _ = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        output, _ = proc.communicate()
-        raise AssertionError(f"ros2py {' '.join(args)} did not finish in {timeout} s:\n{output}") from None
-    return CliResult(proc.returncode, output)
+from tests.helpers.ros_cli import CLI
 
 
 @dataclass

@@ -5,10 +5,9 @@ from __future__ import annotations
 import re
 
 import pytest
-import yaml
 
 from tests.helpers.ros import wait_until
-from tests.integration.ros_tools.conftest import DISCOVERY, run_cli
+from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 FEEDBACK_STEPS = 3
 
@@ -52,17 +51,14 @@ def test_send_goal_prints_id_feedback_result_and_status(wait_server):
     assert wait_server.goals == [2]
     out = result.output
     assert re.search(r"^Goal accepted with ID: [0-9a-f]{32}$", out, re.MULTILINE), out
-    feedback = re.findall(r"^Feedback:\n((?:    .*\n)+)", out, re.MULTILINE)
     # Feedback may lose the race against the result at the very end, but what arrives is in order.
-    seconds_left = [yaml.safe_load(text)["time_left"]["sec"] for text in feedback]
+    seconds_left = [feedback["time_left"]["sec"] for feedback in result.blocks("Feedback")]
     assert seconds_left, out
     assert seconds_left == sorted(seconds_left, reverse=True)
     assert set(seconds_left) <= set(range(FEEDBACK_STEPS))
-    body = re.search(r"^Result:\n((?:    .*\n)+)", out, re.MULTILINE)
-    assert body is not None, out
-    assert yaml.safe_load(body.group(1)) == {
+    assert result.blocks("Result") == [{
         "total_elapsed_time": {"sec": 2, "nanosec": 0}, "error_code": 0, "error_msg": "waited",
-    }
+    }], out
     assert result.lines[-1] == "Goal finished with status: SUCCEEDED"
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from tests.integration.ros_tools.conftest import DISCOVERY, run_cli
+from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = pytest.mark.ros
 

@@ -18,8 +18,9 @@ from ros_tools.report.analysis import (
     yaw_from_quaternion,
 )
 from ros_tools.report.extract import load_run
-from ros_tools.report.render import AMCL_COLOR, COLLISION_COLOR, TRUTH_COLOR, UNKNOWN_RGB
+from ros_tools.report.render import AMCL_COLOR, COLLISION_COLOR, TRUTH_COLOR
 from tests.helpers.bag_synthetic import DURATION, T0, TRANSITIONS, write_synthetic_run
+from tests.helpers.report_pixels import content_fraction, distinct_colors, load_rgb, pixels_near
 
 SMALL = ReportParams(width_px=1000, height_px=600, dpi=80)
 
@@ -27,19 +28,6 @@ SMALL = ReportParams(width_px=1000, height_px=600, dpi=80)
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     return write_synthetic_run(tmp_path_factory.mktemp("report") / "run.mcap")
-
-
-def _pixels_near(image: np.ndarray, hex_color: str, tolerance: int = 12) -> int:
-    target = np.array([int(hex_color[i:i + 2], 16) for i in (1, 3, 5)])
-    rgb = (image[:, :, :3] * 255).round().astype(int)
-    return int((np.abs(rgb - target).max(axis=2) <= tolerance).sum())
-
-
-def _content_fraction(rgb: np.ndarray) -> float:
-    """Share of pixels that are neither white paper nor the map panel's unknown-area tint."""
-    backgrounds = [np.array([255, 255, 255]), np.round(np.array(UNKNOWN_RGB) * 255)]
-    distance = np.min([np.abs(rgb.astype(int) - bg).max(axis=1) for bg in backgrounds], axis=0)
-    return float((distance > 30).mean())
 
 
 # ---------------------------------------------------------------- analysis
@@ -95,18 +83,17 @@ def test_run_data_holds_every_series(run):
 def test_report_png_has_the_size_and_shows_the_run(run, tmp_path):
     out = write_report(run.path, tmp_path / "out" / "report.png", SMALL)
     assert out.is_file() and out.is_absolute()
-    image = imread(out)
-    assert image.shape[:2] == (SMALL.height_px, SMALL.width_px)
-    rgb = (image[:, :, :3] * 255).round().astype(np.uint8).reshape(-1, 3)
-    assert len(np.unique(rgb, axis=0)) > 50  # many distinct colours
-    _, counts = np.unique(rgb, axis=0, return_counts=True)
-    assert counts.max() / len(rgb) < 0.9  # not one colour
-    assert _content_fraction(rgb) > 0.04  # not mostly blank: a bare report has about 0.02
-    dark = (rgb < 40).all(axis=1).mean()
+    rgb = load_rgb(out)
+    assert rgb.shape[:2] == (SMALL.height_px, SMALL.width_px)
+    assert distinct_colors(rgb) > 50  # many distinct colours
+    _, counts = np.unique(rgb.reshape(-1, 3), axis=0, return_counts=True)
+    assert counts.max() / counts.sum() < 0.9  # not one colour
+    assert content_fraction(rgb) > 0.04  # not mostly blank: a bare report has about 0.02
+    dark = (rgb < 40).all(axis=2).mean()
     assert dark > 0.01  # walls and the pillar of the occupancy grid
-    assert _pixels_near(image, TRUTH_COLOR) > 300  # ground-truth trajectory
-    assert _pixels_near(image, AMCL_COLOR) > 100  # AMCL trajectory and error curve
-    assert _pixels_near(image, COLLISION_COLOR) > 20  # collision marker and timeline line
+    assert pixels_near(rgb, TRUTH_COLOR) > 300  # ground-truth trajectory
+    assert pixels_near(rgb, AMCL_COLOR) > 100  # AMCL trajectory and error curve
+    assert pixels_near(rgb, COLLISION_COLOR) > 20  # collision marker and timeline line
 
 
 def test_report_without_ground_truth_has_no_trajectory_pixels(tmp_path):
@@ -114,11 +101,10 @@ def test_report_without_ground_truth_has_no_trajectory_pixels(tmp_path):
     with BagWriter(path) as writer:
         writer.write_message("/cmd_vel", Twist(), 1_000_000_000)
     out = write_report(path, tmp_path / "bare.png", SMALL)
-    image = imread(out)
-    assert image.shape[:2] == (SMALL.height_px, SMALL.width_px)
-    assert _pixels_near(image, TRUTH_COLOR) == 0
-    rgb = (image[:, :, :3] * 255).round().astype(np.uint8).reshape(-1, 3)
-    assert _content_fraction(rgb) < 0.04
+    rgb = load_rgb(out)
+    assert rgb.shape[:2] == (SMALL.height_px, SMALL.width_px)
+    assert pixels_near(rgb, TRUTH_COLOR) == 0
+    assert content_fraction(rgb) < 0.04
 
 
 def test_report_params_are_checked():

@@ -8,7 +8,7 @@ import pytest
 import yaml
 
 from tests.helpers.ros import wait_until
-from tests.integration.ros_tools.conftest import DISCOVERY, run_cli
+from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = pytest.mark.ros
 

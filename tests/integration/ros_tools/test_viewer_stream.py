@@ -117,6 +117,56 @@ def test_stream_delivers_map_scan_robot_battery_and_state_machine(viewer, stream
         node.destroy_timer(timer)
 
 
+def test_stream_delivers_particles_plans_local_costmap_footprint_waypoints_and_nav_status(
+        viewer, stream, spinning):
+    """The navigation layers, each from its own topic with the producer's QoS and frame: AMCL's best-effort
+    cloud, the planner's /plan (map), the controller's /local_plan and the local costmap with its footprint
+    (odom, one metre from map here, so a layer that skipped TF would land in the wrong place), the RViz
+    panel's waypoint markers (labels dropped) and navigate_to_pose's status (the newest goal counts)."""
+    from action_msgs.msg import GoalStatus
+
+    from tests.helpers import viewer_fakes as fakes
+
+    node = spinning("fake_navigation")
+    fakes.publish_static(node, [fakes.map_to_odom(1.0, 0.0, 0.0)])
+    produced = {  # topic → (message, the producer's QoS), republished as costmaps and controllers do
+        "/particle_cloud": (fakes.particle_cloud([(0.5, 0.0, 0.0), (0.6, 0.1, 1.0), (0.4, -0.1, -1.0)]),
+                            fakes.BEST_EFFORT),
+        "/plan": (fakes.path([(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (2.0, 0.5, 0.5)]), 10),
+        "/local_plan": (fakes.path([(0.0, 0.0, 0.0), (0.5, 0.0, 0.0)], frame="odom"), 10),
+        "/local_costmap/costmap": (fakes.marker_costmap(3.0, 0.05, (0.5, 0.5), frame="odom"), fakes.LATCHED),
+        "/local_costmap/published_footprint": (
+            fakes.footprint([(0.2, 0.2), (-0.2, 0.2), (-0.2, -0.2), (0.2, -0.2)]), 10),
+        "/waypoints": (fakes.waypoint_markers([(1.0, 1.0, 0.0), (2.0, -1.0, 1.5)]), 10),
+        "/navigate_to_pose/_action/status": (fakes.goal_statuses(
+            [(GoalStatus.STATUS_SUCCEEDED, 3), (GoalStatus.STATUS_EXECUTING, 5)]), fakes.ACTION_STATUS),
+    }
+    publishers = [(node.create_publisher(type(msg), topic, qos), msg)
+                  for topic, (msg, qos) in produced.items()]
+    timer = node.create_timer(0.1, lambda: [pub.publish(msg) for pub, msg in publishers])
+    wanted = {"particles", "plan", "local_plan", "local_costmap", "footprint", "waypoints", "nav_status"}
+    try:  # a message converted before /tf_static arrived shows a TF error until the next one
+        latest = stream.wait_for(lambda s: wanted <= s.keys() and not any("error" in s[k] for k in wanted),
+                                 WAIT, f"the layers {sorted(wanted)} without errors")
+    finally:
+        node.destroy_timer(timer)
+    assert latest["particles"]["count"] == 3
+    assert latest["particles"]["poses"] == pytest.approx([0.5, 0.0, 0.0, 0.6, 0.1, 1.0, 0.4, -0.1, -1.0],
+                                                         abs=1e-3)
+    assert latest["plan"] == {"count": 3, "poses": pytest.approx([0, 0, 0, 1, 0, 0, 2, 0.5, 0.5], abs=1e-3)}
+    assert latest["local_plan"]["poses"] == pytest.approx([1.0, 0.0, 0.0, 1.5, 0.0, 0.0], abs=1e-3)
+    grid = latest["local_costmap"]
+    assert (grid["frame"], grid["width"], grid["height"]) == ("odom", 60, 60)
+    assert grid["origin"] == pytest.approx([-0.5, -1.5, 0.0])  # (-1.5, -1.5) in odom
+    raw = np.frombuffer(base64.b64decode(grid["data"]), dtype=np.uint8).reshape(60, 60)
+    assert raw[40, 40] == 100 and raw[20, 20] == 0  # the lethal block at (0.5, 0.5) odom, row 0 at the bottom
+    corners = [1.2, 0.2, 0.8, 0.2, 0.8, -0.2, 1.2, -0.2]  # the outline, shifted by odom's offset
+    assert latest["footprint"]["points"] == pytest.approx(corners, abs=1e-3)
+    assert latest["waypoints"]["poses"] == pytest.approx([1.0, 1.0, 0.0, 2.0, -1.0, 1.5], abs=1e-3)
+    assert latest["nav_status"] == {"status": "EXECUTING", "goals": 2}
+    assert latest["info"]["topics"]["/particle_cloud"]["reliability"] == "best_effort"
+
+
 def test_pose_estimate_and_goal_clicks_publish(viewer, spinning):
     from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
 
