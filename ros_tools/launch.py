@@ -90,6 +90,9 @@ class _Running:
 class Launcher:
     """Starts ProcessSpecs in order and supervises them until one ends or the user interrupts."""
 
+    #: s (wall clock) between "waiting for <name>" status lines while a process gets ready.
+    STATUS_PERIOD = 10.0
+
     def __init__(self, output: Callable[[str], None] | None = None, color: bool | None = None,
                  shutdown_grace: float = 10.0) -> None:
         self._lock = threading.Lock()
@@ -118,19 +121,25 @@ class Launcher:
             self.running.append(running)
             if running.ready is None:
                 continue
-            deadline = time.monotonic() + spec.ready_timeout
+            started = time.monotonic()
+            next_status = started + self.STATUS_PERIOD
             while not running.ready.wait(0.1):
                 code = running.proc.poll()
                 if code is not None:
                     raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
                 if self._stop.is_set():
                     raise LaunchError("interrupted during startup")
-                if time.monotonic() > deadline:
+                now = time.monotonic()
+                if now - started > spec.ready_timeout:
                     raise LaunchError(
                         f"{spec.name} was not ready after {spec.ready_timeout:.0f} s "
                         f"(waited for a line matching '{spec.ready}')"
                     )
-            self.log(f"{spec.name} is ready")
+                if now >= next_status:  # a live status line: a slow start is not a hang
+                    next_status += self.STATUS_PERIOD
+                    self.log(f"waiting for {spec.name}: {now - started:.0f} s of {spec.ready_timeout:.0f} s "
+                             f"(until it prints '{spec.ready}')")
+            self.log(f"{spec.name} is ready ({time.monotonic() - started:.1f} s)")
 
     def wait(self, until: Callable[[], bool] | None = None, poll: float = 0.1) -> int:
         """Supervise until a required process exits, ``until()`` is true or stop() is called.

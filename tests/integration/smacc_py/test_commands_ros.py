@@ -130,7 +130,7 @@ def test_smacc_graph_exports_mermaid_from_declarations(tmp_path) -> None:  # typ
         ),
     ],
 )
-def test_demo_reports_the_mission_and_exits_with_its_result(extra, code, expected) -> None:  # type: ignore[no-untyped-def]
+def test_demo_reports_the_mission_and_exits_with_its_result(extra, code, expected, tmp_path) -> None:  # type: ignore[no-untyped-def]
     bringup = " ".join([FAKE_STACK, *extra])
     done = subprocess.run(
         [
@@ -145,6 +145,8 @@ def test_demo_reports_the_mission_and_exits_with_its_result(extra, code, expecte
             bringup,
             "--waypoint1",
             "1.0,0.5,0.0",
+            "--report",  # not artifacts/demo_report.*, which belong to the real stack's run
+            str(tmp_path / "report.png"),
         ],
         cwd=REPO,
         capture_output=True,

@@ -82,3 +82,15 @@ def test_stop_shuts_everything_down_and_children_of_children_too():
         for _ in range(100):  # the grandchild may take a moment to be reaped by init
             os.kill(grandchild, 0)
             threading.Event().wait(0.05)
+
+
+def test_a_slow_start_prints_live_status_lines(monkeypatch):
+    monkeypatch.setattr(Launcher, "STATUS_PERIOD", 0.3)
+    lines, launcher = collect()
+    body = "import time; time.sleep(1.0); print('up', flush=True); time.sleep(30)"
+    slow = ProcessSpec("slow", script(body),
+                       ready="up", ready_timeout=20.0)
+    assert launcher.run([slow], until=lambda: True) == 0
+    waiting = [line for line in lines if line.startswith("[launch] waiting for slow:")]
+    assert len(waiting) >= 2 and "of 20 s (until it prints 'up')" in waiting[0]
+    assert any(line.startswith("[launch] slow is ready (") for line in lines)
