@@ -10,7 +10,11 @@ the final goal heading are handled by rotating in place (with ``max_angular_acce
 command is simulated ahead up to the carrot, at most ``max_allowed_time_to_collision_up_to_carrot``
 s, and a collision raises NoValidControl.
 
-Two choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
+A blocked arc is retried toward a carrot at half the distance, down to two cells: a closer carrot
+lies on an arc nearer the path, which the planner kept free, so the robot follows a bend instead of
+stopping where the arc to the far carrot cuts the corner (Nav2 raises at once).
+
+Two more choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
 ``stateful`` (Nav2 PR #5167, later releases) keeps rotating to the goal heading once the goal was
 within ``goal_dist_tol``, even when localization jitter or the turn itself moves the robot just
 outside it (otherwise it turns back toward the goal point, then again to the heading, ...); and
@@ -187,24 +191,32 @@ class RegulatedPurePursuit:
             lookahead = min(
                 max(abs(velocity.vx) * p.lookahead_time, p.min_lookahead_dist), p.max_lookahead_dist
             )
+        closest = 2.0 * grid.spec.resolution
+        while True:
+            cmd, carrot = self._command(robot, velocity, path, local, lookahead, grid)
+            reach = float(np.hypot(*carrot))
+            if not (p.use_collision_detection and self._collision_ahead(robot, cmd, reach, grid)):
+                return cmd
+            if lookahead <= closest:
+                raise NoValidControl("collision ahead on the way to the carrot")
+            lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
+
+    def _command(self, robot: Pose2D, velocity: Twist2D, path: FloatArray, local: FloatArray,
+                 lookahead: float, grid: CostGrid) -> tuple[Twist2D, FloatArray]:
+        """The command toward the carrot at ``lookahead`` (m), and that carrot (robot frame)."""
+        p = self.params
         carrot = find_carrot(local, lookahead)
         self.last_carrot = carrot
         curvature = curvature_to(carrot)
         goal = local[-1]
         if self._rotating_to_goal_heading(path[-1], goal):
-            cmd = self._rotate(float(goal[2]), velocity)
-        elif (
-            p.use_rotate_to_heading and abs(math.atan2(carrot[1], carrot[0])) > p.rotate_to_heading_min_angle
-        ):
-            cmd = self._rotate(math.atan2(carrot[1], carrot[0]), velocity)
-        else:
-            pose_cost = int(grid.cost_at(robot.x, robot.y))
-            speed = approach_scaled_speed(p, regulated_speed(p, curvature, pose_cost), local)
-            speed = min(speed, p.desired_linear_vel)
-            cmd = Twist2D(speed, speed * curvature)
-        if p.use_collision_detection and self._collision_ahead(robot, cmd, float(np.hypot(*carrot)), grid):
-            raise NoValidControl("collision ahead on the way to the carrot")
-        return cmd
+            return self._rotate(float(goal[2]), velocity), carrot
+        if p.use_rotate_to_heading and abs(math.atan2(carrot[1], carrot[0])) > p.rotate_to_heading_min_angle:
+            return self._rotate(math.atan2(carrot[1], carrot[0]), velocity), carrot
+        pose_cost = int(grid.cost_at(robot.x, robot.y))
+        speed = approach_scaled_speed(p, regulated_speed(p, curvature, pose_cost), local)
+        speed = min(speed, p.desired_linear_vel)
+        return Twist2D(speed, speed * curvature), carrot
 
     def _collision_ahead(self, robot: Pose2D, cmd: Twist2D, carrot_dist: float, grid: CostGrid) -> bool:
         """Simulate ``cmd`` in steps of ~one cell until the carrot distance or the time cap."""

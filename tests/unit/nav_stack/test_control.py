@@ -240,12 +240,29 @@ def test_rpp_brakes_an_in_place_turn_to_stop_on_its_target() -> None:
 
 def test_rpp_detects_a_collision_before_the_carrot() -> None:
     spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
-    grid = with_obstacle(spec, 0.4, 0.5, -0.3, 0.3)
+    grid = with_obstacle(spec, 0.27, 0.37, -0.3, 0.3)  # inscribed from x = 0.05: within the closest carrot
     path = polyline_path([(0.0, 0.0), (1.8, 0.0)])
     with pytest.raises(NoValidControl):
-        RegulatedPurePursuit().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
+        RegulatedPurePursuit().compute_velocity(Pose2D(0.01, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
     far = with_obstacle(spec, 1.5, 1.6, -0.3, 0.3)  # beyond the carrot: no alarm
     RegulatedPurePursuit().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, far)
+
+
+def test_rpp_takes_a_closer_carrot_when_the_arc_to_the_far_one_cuts_a_corner() -> None:
+    """A free path bends left around a block; the arc to the carrot 0.9 m ahead cuts through the
+    block's inscribed band, the one to a carrot 0.45 m ahead (on the straight part) does not."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.2, 0.55, 0.38, 0.9)
+    path = polyline_path([(0.0, 0.0), (0.8, 0.0), (0.8, 1.2)])
+    mx, my = spec.world_to_cell(path[:, 0], path[:, 1])
+    assert (grid.costs[my, mx] < 253).all(), "the path itself must be free"
+    params = RPPParams(lookahead_dist=0.9, max_allowed_time_to_collision_up_to_carrot=3.0)  # to the carrot
+    far_arc = RegulatedPurePursuit(params, footprint=None)
+    assert far_arc._collision_ahead(Pose2D(0.0, 0.0, 0.0), Twist2D(0.33, 0.33 * 2 * 0.4123 / 0.81), 0.9, grid)
+    rpp = RegulatedPurePursuit(params)
+    cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
+    assert cmd.vx > 0.0 and abs(cmd.wz) < 0.05, cmd
+    assert np.hypot(*rpp.last_carrot) == pytest.approx(0.45)
 
 
 # ------------------------------------------------------------------ path handler
