@@ -28,6 +28,7 @@ from nav_stack.core.control import (
     SimpleProgressChecker,
     StoppedGoalChecker,
 )
+from nav_stack.core.control.rotation_shim import RotationShim, RotationShimParams
 from nav_stack.core.control.server import LocalController
 from nav_stack.ros.param_layout import build, declare_fields, declare_renamed, param
 from nav_stack.ros.params import declare_dataclass, on_dataclass_update
@@ -50,10 +51,13 @@ DWB_CRITIC_NAMES = {
     "x_only_threshold": "Oscillation.x_only_threshold",
 }
 RPP_FROM_SERVER = ("inscribed_radius", "goal_dist_tol", "controller_frequency")
+SHIM_FROM_SERVER = ("goal_dist_tol", "controller_frequency")
+CONTROLLER_TYPES = ["DWBLocalPlanner", "RegulatedPurePursuitController", "RotationShimController"]
 DEFAULT_TYPES = {
     "FollowPath": "dwb_core::DWBLocalPlanner",
     "DWB": "dwb_core::DWBLocalPlanner",
     "RPP": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
+    "RotationShim": "nav2_rotation_shim_controller::RotationShimController",
     "general_goal_checker": "nav2_controller::SimpleGoalChecker",
     "goal_checker": "nav2_controller::SimpleGoalChecker",
     "stopped_goal_checker": "nav2_controller::StoppedGoalChecker",
@@ -85,6 +89,30 @@ def _rpp(
     return RegulatedPurePursuit(build(node, RPPParams, values, plugin_id), footprint)
 
 
+def _controller(
+    node: Node, cid: str, kind: str, footprint: Footprint, server: dict[str, Any]
+) -> LocalController:
+    """The controller of plugin type ``kind`` with its ``<cid>.*`` parameters; a RotationShimController
+    wraps the ``<cid>.primary_controller`` type, whose parameters share the prefix (Nav2's layout)."""
+    if kind == "DWBLocalPlanner":
+        return _dwb(node, cid, footprint)
+    if kind == "RegulatedPurePursuitController":
+        return _rpp(node, cid, footprint, {k: server[k] for k in RPP_FROM_SERVER})
+    if kind == "RotationShimController":
+        primary_type = str(param(node, f"{cid}.primary_controller", ""))
+        primary_kind = primary_type.replace("/", "::").split("::")[-1]
+        if primary_kind not in ("DWBLocalPlanner", "RegulatedPurePursuitController"):
+            raise ValueError(f"{node.get_name()}: {cid}.primary_controller '{primary_type}' is not "
+                             "dwb_core::DWBLocalPlanner or nav2_regulated_pure_pursuit_controller::"
+                             "RegulatedPurePursuitController")
+        primary = _controller(node, cid, primary_kind, footprint, server)
+        own = [f.name for f in dataclasses.fields(RotationShimParams) if f.name not in SHIM_FROM_SERVER]
+        values = declare_fields(node, RotationShimParams, own, f"{cid}.")
+        values |= {k: server[k] for k in SHIM_FROM_SERVER}
+        return RotationShim(primary, build(node, RotationShimParams, values, cid), footprint)
+    raise _unknown(node, cid, kind, CONTROLLER_TYPES)
+
+
 def build_plugins(
     node: Node,
     controller_ids: Sequence[str],
@@ -110,18 +138,9 @@ def build_plugins(
             raise _unknown(node, pid, kind, ["SimpleProgressChecker"])
         progress[pid] = SimpleProgressChecker(declare_dataclass(node, ProgressCheckerParams, f"{pid}."))
     xy_tolerance = min((c.params.xy_goal_tolerance for c in goal_checkers.values()), default=0.25)
-    controllers: dict[str, LocalController] = {}
-    for cid in controller_ids:
-        kind = _kind(node, cid)
-        if kind == "DWBLocalPlanner":
-            controllers[cid] = _dwb(node, cid, footprint)
-        elif kind == "RegulatedPurePursuitController":
-            from_server: dict[str, Any] = {"inscribed_radius": inscribed_radius,
-                                           "goal_dist_tol": xy_tolerance,
-                                           "controller_frequency": controller_frequency}
-            controllers[cid] = _rpp(node, cid, footprint, from_server)
-        else:
-            raise _unknown(node, cid, kind, ["DWBLocalPlanner", "RegulatedPurePursuitController"])
+    server = {"inscribed_radius": inscribed_radius, "goal_dist_tol": xy_tolerance,
+              "controller_frequency": controller_frequency}
+    controllers = {cid: _controller(node, cid, _kind(node, cid), footprint, server) for cid in controller_ids}
     return ControllerPlugins(controllers, goal_checkers, progress)
 
 
@@ -130,11 +149,13 @@ def take_param_updates(node: Node, controllers: Mapping[str, LocalController]) -
     ``DWB.max_vel_x``) change a running controller from its next cycle, as Nav2's controllers do.
     Returns the parameter callbacks, to remove at cleanup."""
     callbacks = []
-    for cid, controller in controllers.items():
-        renames = DWB_CRITIC_NAMES if isinstance(controller, DWBController) else None
-        callbacks.append(on_dataclass_update(node, type(controller.params), f"{cid}.",
-                                             _params_of(controller), _replace_params(node, cid, controller),
-                                             renames))
+    for cid, outer in controllers.items():
+        layers = [outer, outer.primary] if isinstance(outer, RotationShim) else [outer]
+        for controller in layers:
+            renames = DWB_CRITIC_NAMES if isinstance(controller, DWBController) else None
+            callbacks.append(on_dataclass_update(node, type(controller.params), f"{cid}.",
+                                                 _params_of(controller),
+                                                 _replace_params(node, cid, controller), renames))
     return callbacks
 
 

@@ -138,3 +138,15 @@ class PolygonFootprint:
 
     def collides(self, cost: IntArray) -> BoolArray:
         return np.asarray(cost >= LETHAL_OBSTACLE)  # lethal, or unknown / off the grid (255)
+
+
+def turn_in_place(angle: float, current_wz: float, max_wz: float, max_accel: float, period: float) -> float:
+    """Angular velocity (rad/s) for an in-place turn of ``angle`` (rad, + = left) this cycle.
+
+    Up to ``max_wz``, at most ``max_accel`` (rad/s²) × ``period`` (s) away from ``current_wz``, and
+    never faster than sqrt(2·max_accel·|angle|), the speed from which the turn can still stop on its
+    target instead of overshooting it (shared by RPP and the rotation shim).
+    """
+    dv = max_accel * period
+    speed = min(max_wz, math.sqrt(2.0 * max_accel * abs(angle)))
+    return min(max(math.copysign(speed, angle), current_wz - dv), current_wz + dv)

@@ -29,7 +29,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_stack.core.control.base import CircleFootprint, CostGrid, Footprint, NoValidControl, Twist2D
+from nav_stack.core.control.base import (
+    CircleFootprint,
+    CostGrid,
+    Footprint,
+    NoValidControl,
+    Twist2D,
+    turn_in_place,
+)
 from nav_stack.core.geometry import FloatArray, Pose2D, path_length, to_frame
 from nav_stack.core.grid import FREE_SPACE, MAX_NON_OBSTACLE, NO_INFORMATION
 
@@ -162,10 +169,8 @@ class RegulatedPurePursuit:
         """Turn in place toward ``angle`` (rad, robot frame) within the acceleration limit, braking
         so as to stop on it."""
         p = self.params
-        dv = p.max_angular_accel / p.controller_frequency
-        speed = min(p.rotate_to_heading_angular_vel, math.sqrt(2.0 * p.max_angular_accel * abs(angle)))
-        w = math.copysign(speed, angle)
-        return Twist2D(0.0, min(max(w, velocity.wz - dv), velocity.wz + dv))
+        return Twist2D(0.0, turn_in_place(angle, velocity.wz, p.rotate_to_heading_angular_vel,
+                                          p.max_angular_accel, 1.0 / p.controller_frequency))
 
     def _rotating_to_goal_heading(self, goal_world: FloatArray, goal_local: FloatArray) -> bool:
         """Whether only the final turn onto the goal heading remains (latched per goal if stateful)."""
