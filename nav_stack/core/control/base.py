@@ -84,6 +84,24 @@ class CostGrid:
         out[inside] = self.costs[my[inside], mx[inside]]
         return out
 
+    def lethal_clearance(self, x: FloatArray, y: FloatArray, reach: float) -> FloatArray:
+        """Distance (m) from each point to the nearest lethal cell (to its square, so that the
+        distance stays constant along a straight row of cells), among the cells within ``reach`` (m)
+        of the points' bounding box; inf where none is that close. Assumes an unrotated grid."""
+        spec = self.spec
+        mx, my = spec.world_to_cell(np.array([x.min() - reach, x.max() + reach]),
+                                    np.array([y.min() - reach, y.max() + reach]))
+        x0, y0 = max(int(mx[0]), 0), max(int(my[0]), 0)
+        window = self.costs[y0:max(int(my[1]) + 1, y0), x0:max(int(mx[1]) + 1, x0)]
+        rows, cols = np.nonzero(window == LETHAL_OBSTACLE)
+        if len(rows) == 0:
+            return np.full(np.shape(x), np.inf)
+        cx, cy = spec.cell_to_world(cols + x0, rows + y0)
+        half = 0.5 * spec.resolution
+        dx = np.maximum(np.abs(np.subtract.outer(x, cx)) - half, 0.0)
+        dy = np.maximum(np.abs(np.subtract.outer(y, cy)) - half, 0.0)
+        return np.asarray(np.hypot(dx, dy).min(axis=-1))
+
 
 class Footprint(Protocol):
     """Footprint cost function: the cost of the robot standing at poses, and which costs collide."""
@@ -138,6 +156,31 @@ class PolygonFootprint:
 
     def collides(self, cost: IntArray) -> BoolArray:
         return np.asarray(cost >= LETHAL_OBSTACLE)  # lethal, or unknown / off the grid (255)
+
+
+def motion_collides(footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray,
+                    cost: IntArray | None = None) -> BoolArray:
+    """Which simulated motions collide: poses along the last axis, each motion starting where the
+    robot stands now (index 0); ``cost`` is ``footprint.cost`` of the poses if already computed.
+
+    Why the exception: the costmap's cells make obstacles look up to about a cell larger than they
+    are, so a round robot that passed a pillar with centimetres to spare can find its own cell in
+    the inscribed band (253) on the next update, and then every motion, even a turn on the spot,
+    would "collide" and the robot would never leave. A round robot inside the band may therefore
+    move within it as long as no pose comes closer to a lethal cell than it is now: it can turn,
+    slide along the obstacle or back out, never push further in. Lethal and unknown cells always
+    collide; polygon footprints check lethal cost only and need no exception.
+    """
+    cost = footprint.cost(grid, x, y, yaw) if cost is None else cost
+    hits = footprint.collides(cost)
+    blocked = np.asarray(hits.any(axis=-1))
+    if not blocked.any() or not isinstance(footprint, CircleFootprint):
+        return blocked
+    inside = blocked & (cost[..., 0] == INSCRIBED_INFLATED_OBSTACLE) & ~(cost >= LETHAL_OBSTACLE).any(axis=-1)
+    if inside.any():
+        clearance = grid.lethal_clearance(x[inside], y[inside], footprint.radius + grid.spec.resolution)
+        blocked[inside] = ((clearance < clearance[..., :1]) & hits[inside]).any(axis=-1)
+    return blocked
 
 
 def turn_in_place(angle: float, current_wz: float, max_wz: float, max_accel: float, period: float) -> float:

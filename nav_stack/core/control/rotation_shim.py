@@ -24,7 +24,14 @@ from typing import Any
 
 import numpy as np
 
-from nav_stack.core.control.base import CostGrid, Footprint, NoValidControl, Twist2D, turn_in_place
+from nav_stack.core.control.base import (
+    CostGrid,
+    Footprint,
+    NoValidControl,
+    Twist2D,
+    motion_collides,
+    turn_in_place,
+)
 from nav_stack.core.control.server import LocalController
 from nav_stack.core.geometry import FloatArray, Pose2D, normalize_angles
 
@@ -121,6 +128,6 @@ class RotationShim:
             steps = np.linspace(0.0, p.simulate_ahead_time, 11)
             yaws = robot.yaw + np.clip(wz * steps, -abs(angle), abs(angle))  # no further than the target
             xs, ys = np.full_like(yaws, robot.x), np.full_like(yaws, robot.y)
-            if self.footprint.collides(self.footprint.cost(grid, xs, ys, yaws)).any():
+            if motion_collides(self.footprint, grid, xs, ys, yaws):
                 raise NoValidControl("the in-place turn toward the path heading would collide")
         return Twist2D(0.0, wz)

@@ -12,7 +12,16 @@ s, and a collision raises NoValidControl.
 
 A blocked arc is retried toward a carrot at half the distance, down to two cells: a closer carrot
 lies on an arc nearer the path, which the planner kept free, so the robot follows a bend instead of
-stopping where the arc to the far carrot cuts the corner (Nav2 raises at once).
+stopping where the arc to the far carrot cuts the corner (Nav2 raises at once). When even that arc
+is blocked, the robot faces away from the path's direction beside an obstacle; it turns on the spot
+toward the closest carrot first.
+
+The collision check also ends at the first simulated pose within ``goal_dist_tol`` of the goal: the
+robot stops there to turn onto the goal heading, so the rest of the arc is never driven. Without
+that cut, a goal a few centimetres outside an obstacle's inscribed band (the seed's location3 beside
+a pillar) is unreachable: the local costmap's lidar cells put the path's last stretch inside the
+band, and every arc toward the goal "collides" beyond the point where the robot would have stopped.
+A robot that finds itself inside the band may still turn and move out (``motion_collides``).
 
 Two more choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
 ``stateful`` (Nav2 PR #5167, later releases) keeps rotating to the goal heading once the goal was
@@ -35,10 +44,14 @@ from nav_stack.core.control.base import (
     Footprint,
     NoValidControl,
     Twist2D,
+    motion_collides,
     turn_in_place,
 )
 from nav_stack.core.geometry import FloatArray, Pose2D, path_length, to_frame
 from nav_stack.core.grid import FREE_SPACE, MAX_NON_OBSTACLE, NO_INFORMATION
+
+#: rad: heading error toward the closest carrot below which turning on the spot cannot help
+ALIGNED = 0.05
 
 
 @dataclass(frozen=True)
@@ -200,11 +213,22 @@ class RegulatedPurePursuit:
         while True:
             cmd, carrot = self._command(robot, velocity, path, local, lookahead, grid)
             reach = float(np.hypot(*carrot))
-            if not (p.use_collision_detection and self._collision_ahead(robot, cmd, reach, grid)):
+            if not (p.use_collision_detection and self._collision_ahead(robot, cmd, reach, grid, path[-1])):
                 return cmd
             if lookahead <= closest:
-                raise NoValidControl("collision ahead on the way to the carrot")
+                return self._align_with(carrot, robot, velocity, grid)
             lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
+
+    def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid) -> Twist2D:
+        """Even the arc to the closest carrot is blocked: turn on the spot toward that carrot (the
+        path's direction right there), from where the arcs run along the path; raise if already
+        facing it or if the turn itself is blocked."""
+        angle = math.atan2(carrot[1], carrot[0])
+        if abs(angle) > ALIGNED:
+            turn = self._rotate(angle, velocity)
+            if not self._collision_ahead(robot, turn, 0.0, grid):
+                return turn
+        raise NoValidControl("collision ahead on the way to the carrot")
 
     def _command(self, robot: Pose2D, velocity: Twist2D, path: FloatArray, local: FloatArray,
                  lookahead: float, grid: CostGrid) -> tuple[Twist2D, FloatArray]:
@@ -223,8 +247,10 @@ class RegulatedPurePursuit:
         speed = min(speed, p.desired_linear_vel)
         return Twist2D(speed, speed * curvature), carrot
 
-    def _collision_ahead(self, robot: Pose2D, cmd: Twist2D, carrot_dist: float, grid: CostGrid) -> bool:
-        """Simulate ``cmd`` in steps of ~one cell until the carrot distance or the time cap."""
+    def _collision_ahead(self, robot: Pose2D, cmd: Twist2D, carrot_dist: float, grid: CostGrid,
+                         goal: FloatArray | None = None) -> bool:
+        """Simulate ``cmd`` in steps of ~one cell until the carrot distance, the time cap or the first
+        pose within ``goal_dist_tol`` of ``goal`` (world x, y), where the robot will stop."""
         p = self.params
         res = grid.spec.resolution
         if abs(cmd.vx) > 0.01:
@@ -242,6 +268,9 @@ class RegulatedPurePursuit:
             x = robot.x + cmd.vx * t * math.cos(robot.yaw)
             y = robot.y + cmd.vx * t * math.sin(robot.yaw)
         keep = np.hypot(x - robot.x, y - robot.y) < max(carrot_dist, res)
+        if goal is not None:
+            arrived = np.nonzero(np.hypot(x - goal[0], y - goal[1]) < p.goal_dist_tol)[0]
+            if len(arrived):
+                keep[arrived[0] + 1:] = False
         keep[0] = True
-        cost = self.footprint.cost(grid, x[keep], y[keep], yaw[keep])
-        return bool(self.footprint.collides(cost).any())
+        return bool(motion_collides(self.footprint, grid, x[keep], y[keep], yaw[keep]))

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from nav_stack.core.control import (
+    CircleFootprint,
     ControllerErrorCode,
     ControllerPlugins,
     CostGrid,
@@ -25,6 +26,7 @@ from nav_stack.core.control import (
     StoppedGoalChecker,
     Twist2D,
 )
+from nav_stack.core.control.base import motion_collides
 from nav_stack.core.control.rpp import (
     approach_scaled_speed,
     curvature_to,
@@ -78,8 +80,10 @@ def drive(
     start: Pose2D,
     goal_yaw: float,
     max_steps: int = 1200,
+    poses: list[Pose2D] | None = None,
 ) -> tuple[Pose2D, bool, float]:
-    """Closed kinematic loop: path handler → controller → unicycle; returns end pose, reached, worst cost."""
+    """Closed kinematic loop: path handler → controller → unicycle; returns end pose, reached, worst
+    cost, and appends every pose to ``poses`` when given."""
     path = path.copy()
     path[-1, 2] = goal_yaw
     handler = PathHandler()
@@ -94,6 +98,8 @@ def drive(
         vel = controller.compute_velocity(pose, vel, local, grid)
         pose = unicycle(pose, vel)
         worst = max(worst, int(grid.cost_at(pose.x, pose.y)))
+        if poses is not None:
+            poses.append(pose)
     return pose, False, worst
 
 
@@ -125,6 +131,20 @@ def test_dwb_rejects_everything_when_boxed_in() -> None:
     with pytest.raises(NoValidControl) as err:
         DWBController().compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert err.value.code == ControllerErrorCode.NO_VALID_CONTROL == 106
+
+
+def test_dwb_drives_out_of_the_inscribed_band_it_finds_itself_in() -> None:
+    """Its own cell inscribed beside a wall, facing 0.3 rad away from it: Nav2's DWB rejects every
+    trajectory (all start in the band); here those that do not close in on the wall remain."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, -1.0, 1.5, 0.22, 0.42)
+    path = polyline_path([(0.0, 0.0), (1.5, -0.55)])
+    start = Pose2D(0.0, 0.0, -0.3)
+    assert grid.cost_at(start.x, start.y) == INSCRIBED_INFLATED_OBSTACLE
+    dwb = DWBController()
+    cmd = dwb.compute_velocity(start, Twist2D(0.0, 0.0), path, grid)
+    assert cmd.vx > 0.0
+    assert (dwb.last_trajectory[:, 1] <= 1e-9).all(), "the chosen trajectory moves toward the wall"
 
 
 def test_dwb_follows_a_path_to_the_goal_in_a_kinematic_loop() -> None:
@@ -263,6 +283,60 @@ def test_rpp_takes_a_closer_carrot_when_the_arc_to_the_far_one_cuts_a_corner() -
     cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
     assert cmd.vx > 0.0 and abs(cmd.wz) < 0.05, cmd
     assert np.hypot(*rpp.last_carrot) == pytest.approx(0.45)
+
+
+def test_rpp_stops_checking_for_collisions_where_the_goal_tolerance_stops_the_robot() -> None:
+    """The band around a block begins 0.12 m before a goal placed inside it (a seed goal beside a
+    pillar): the robot will stop 0.25 m before the goal, so the band beyond does not block it."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.7, 0.8, -0.3, 0.3)  # inscribed band from x = 0.48
+    rpp = RegulatedPurePursuit(RPPParams(max_allowed_time_to_collision_up_to_carrot=3.0))
+    ahead = Twist2D(0.25, 0.0)
+    assert rpp._collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid)
+    assert not rpp._collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid, np.array([0.6, 0.0]))
+    path = polyline_path([(0.0, 0.0), (0.6, 0.0)])
+    cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert cmd.vx > 0.0 and np.hypot(*rpp.last_carrot) == pytest.approx(0.6)  # no closer carrot needed
+
+
+def test_a_round_robot_inside_the_inscribed_band_may_turn_slide_and_back_out_but_not_push_in() -> None:
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.5, 0.7, -1.0, 1.0)  # a wall at x = 0.5; band from x = 0.28
+    fp = CircleFootprint(0.22)
+
+    def collides(start: Pose2D, cmd: Twist2D) -> bool:
+        t = np.linspace(0.0, 1.0, 11)
+        yaw = start.yaw + cmd.wz * t
+        x = start.x + cmd.vx * t * np.cos(yaw)
+        y = start.y + cmd.vx * t * np.sin(yaw)
+        return motion_collides(fp, grid, x, y, yaw)
+
+    inside = Pose2D(0.32, 0.0, 0.0)
+    assert grid.cost_at(inside.x, inside.y) == INSCRIBED_INFLATED_OBSTACLE
+    assert not collides(inside, Twist2D(0.0, 1.0)), "a turn on the spot"
+    assert not collides(inside, Twist2D(-0.1, 0.0)), "backing out"
+    assert not collides(Pose2D(0.32, 0.0, math.pi / 2), Twist2D(0.1, 0.0)), "sliding along the wall"
+    assert collides(inside, Twist2D(0.05, 0.0)), "pushing further in"
+    outside = Pose2D(0.2, 0.0, 0.0)
+    assert collides(outside, Twist2D(0.15, 0.0)), "entering the band from outside"
+
+
+def test_rpp_facing_into_a_wall_turns_on_the_spot_then_leaves_the_band_without_closing_in() -> None:
+    """In the inscribed band beside a wall (lethal from y = 0.22), heading 0.4 rad toward it, with
+    the path leaving the band at 20°: every arc to a carrot first bends toward the wall, so RPP turns
+    on the spot, then drives out, never closer to the wall than where it started (within the one
+    sample per cell of the check, as Nav2 samples)."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, -1.0, 1.5, 0.22, 0.42)
+    path = polyline_path([(0.0, 0.0), (1.5, -0.55)])
+    start = Pose2D(0.0, 0.0, 0.4)
+    assert grid.cost_at(start.x, start.y) == INSCRIBED_INFLATED_OBSTACLE
+    first = RegulatedPurePursuit().compute_velocity(start, Twist2D(0.0, 0.0), path, grid)
+    assert first.vx == 0.0 and first.wz < 0.0, first
+    poses: list[Pose2D] = []
+    pose, reached, _ = drive(RegulatedPurePursuit(), path, grid, start, goal_yaw=-0.35, poses=poses)
+    assert reached, pose
+    assert max(p.y for p in poses) < 0.005
 
 
 # ------------------------------------------------------------------ path handler
