@@ -148,9 +148,20 @@ class SmaccRuntime:
                 _log.exception("%s: update() raised", self.sm.name)
 
     def spin(self) -> None:
-        """Spin the executor in this thread until the context shuts down or ``shutdown()``."""
+        """Spin the executor in this thread until the context shuts down or ``shutdown()``.
+
+        rclpy's ``spin()`` ends at the first exception a callback raises; in a background thread
+        that silently freezes the machine (its clock stops with /clock, so even its timeouts never
+        fire). Such an exception is logged with its traceback instead, and spinning goes on.
+        """
         with contextlib.suppress(KeyboardInterrupt, ExternalShutdownException):
-            self.executor.spin()
+            while self.executor.context.ok() and not self._stopping.is_set():
+                try:
+                    self.executor.spin_once(timeout_sec=0.1)
+                except (KeyboardInterrupt, ExternalShutdownException):
+                    raise
+                except Exception:
+                    _log.exception("%s: a callback raised; the executor keeps spinning", self.sm.name)
 
     def spin_in_background(self) -> None:
         """Spin the executor in a daemon thread."""
