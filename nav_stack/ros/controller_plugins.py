@@ -65,9 +65,13 @@ DEFAULT_TYPES = {
 }
 
 
+def _class_name(plugin_type: str) -> str:
+    """``dwb_core::DWBLocalPlanner`` (or the ROS 1 ``dwb_core/DWBLocalPlanner``) → ``DWBLocalPlanner``."""
+    return plugin_type.replace("/", "::").split("::")[-1]
+
+
 def _kind(node: Node, plugin_id: str) -> str:
-    plugin = str(param(node, f"{plugin_id}.plugin", DEFAULT_TYPES.get(plugin_id, "")))
-    return plugin.replace("/", "::").split("::")[-1]
+    return _class_name(str(param(node, f"{plugin_id}.plugin", DEFAULT_TYPES.get(plugin_id, ""))))
 
 
 def _unknown(node: Node, plugin_id: str, kind: str, known: Sequence[str]) -> ValueError:
@@ -100,7 +104,7 @@ def _controller(
         return _rpp(node, cid, footprint, {k: server[k] for k in RPP_FROM_SERVER})
     if kind == "RotationShimController":
         primary_type = str(param(node, f"{cid}.primary_controller", ""))
-        primary_kind = primary_type.replace("/", "::").split("::")[-1]
+        primary_kind = _class_name(primary_type)
         if primary_kind not in ("DWBLocalPlanner", "RegulatedPurePursuitController"):
             raise ValueError(f"{node.get_name()}: {cid}.primary_controller '{primary_type}' is not "
                              "dwb_core::DWBLocalPlanner or nav2_regulated_pure_pursuit_controller::"
