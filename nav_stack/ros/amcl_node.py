@@ -37,18 +37,18 @@ from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
-from nav2_msgs.msg import Particle, ParticleCloud
+from nav2_msgs.msg import ParticleCloud
 from nav2_msgs.srv import SetInitialPose
 from nav_msgs.msg import OccupancyGrid
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.time import Time
 from sensor_msgs.msg import LaserScan as LaserScanMsg
 from std_srvs.srv import Empty
 
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.localization import Amcl, AmclParams, map_to_odom
-from nav_stack.ros.conversions import grid_from_occupancy, pose_from_2d, pose_to_2d
+from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
+from nav_stack.ros.conversions import grid_from_occupancy, pose_to_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
@@ -66,16 +66,6 @@ NO_POSE_WARNING = "AMCL cannot publish a pose or update the transform. Please se
 #: Scans: sensor-data QoS but only the newest sample is kept (see the module docstring).
 SCAN_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
 Pose = tuple[float, float, float]
-
-
-def _time_msg(seconds: float) -> object:
-    return Time(nanoseconds=round(seconds * 1e9)).to_msg()
-
-
-def covariance_3x3(covariance: object) -> np.ndarray:
-    """(x, y, yaw) covariance from a 6×6 row-major pose covariance (x, y, z, roll, pitch, yaw)."""
-    c = np.asarray(covariance, dtype=np.float64)
-    return np.array([[c[0], c[1], 0.0], [c[6], c[7], 0.0], [0.0, 0.0, c[35]]])
 
 
 def load_params(node: NavLifecycleNode) -> AmclParams:
@@ -319,16 +309,8 @@ class AmclNode(NavLifecycleNode):
             self.get_logger().warning("AMCL covariance or pose is NaN, likely due to an invalid "
                                       "configuration or faulty sensor measurements! Pose is not available!")
             return
-        msg = PoseWithCovarianceStamped()
-        msg.header.frame_id = self.params.global_frame_id
-        msg.header.stamp = _time_msg(stamp)
-        msg.pose.pose = pose_from_2d(estimate.x, estimate.y, estimate.yaw)
-        cov = estimate.covariance
-        covariance = [0.0] * 36
-        for index, (row, col) in {0: (0, 0), 1: (0, 1), 6: (1, 0), 7: (1, 1), 35: (2, 2)}.items():
-            covariance[index] = cov[row, col]
-        msg.pose.covariance = [float(v) for v in covariance]
-        self.pose_pub.publish(msg)
+        self.pose_pub.publish(estimate_msg(estimate.x, estimate.y, estimate.yaw, estimate.covariance,
+                                           self.params.global_frame_id, stamp))
         if odom is not None:
             self._map_to_odom = map_to_odom((estimate.x, estimate.y, estimate.yaw), odom)
             self._send_tf(stamp + self.params.transform_tolerance)
@@ -336,13 +318,9 @@ class AmclNode(NavLifecycleNode):
     def _publish_cloud(self) -> None:
         if self.amcl is None or self.cloud_pub.get_subscription_count() == 0:
             return
-        msg = ParticleCloud()
-        msg.header.frame_id = self.params.global_frame_id
-        msg.header.stamp = self.get_clock().now().to_msg()
-        msg.particles = [Particle(pose=pose_from_2d(x, y, yaw), weight=float(w))
-                         for (x, y, yaw), w in zip(self.amcl.particles.tolist(), self.amcl.weights.tolist(),
-                                                   strict=True)]
-        self.cloud_pub.publish(msg)
+        stamp = self.get_clock().now().to_msg()
+        self.cloud_pub.publish(particle_cloud_msg(self.amcl.particles, self.amcl.weights,
+                                                  self.params.global_frame_id, stamp))
 
     def _send_tf(self, stamp: float) -> None:
         if self._map_to_odom is None or not self.params.tf_broadcast:
@@ -351,7 +329,7 @@ class AmclNode(NavLifecycleNode):
         self._last_tf_stamp = stamp
         transform = Transform.from_xy_yaw(x, y, yaw)
         self.tf_broadcaster.send([transform_to_msg(transform, self.params.global_frame_id,
-                                                   self.params.odom_frame_id, _time_msg(stamp))])
+                                                   self.params.odom_frame_id, time_msg(stamp))])
 
     def _republish_tf(self) -> None:
         """Keep map→odom valid while scans stop (robot idle, sensor down): re-send the last estimate."""

@@ -1,0 +1,30 @@
+"""amcl's message layouts: the (x, y, yaw) covariance round-trips through Nav2's 6×6 placement."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("nav2_msgs.msg", reason="nav2_msgs is not built (run the interface build)")
+
+from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
+
+
+def test_estimate_places_the_covariance_where_nav2_clients_read_it() -> None:
+    cov = np.array([[0.25, 0.01, 0.0], [0.02, 0.16, 0.0], [0.0, 0.0, 0.07]])
+    msg = estimate_msg(1.0, -2.0, math.pi / 2, cov, "map", 12.5)
+    assert msg.header.frame_id == "map"
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (12, 500_000_000)
+    assert (msg.pose.covariance[0], msg.pose.covariance[7], msg.pose.covariance[35]) == (0.25, 0.16, 0.07)
+    assert (msg.pose.covariance[1], msg.pose.covariance[6]) == (0.01, 0.02)
+    np.testing.assert_array_equal(covariance_3x3(msg.pose.covariance), cov)
+    assert msg.pose.pose.orientation.z == pytest.approx(math.sin(math.pi / 4))
+
+
+def test_particle_cloud_carries_every_particle_and_weight() -> None:
+    particles = np.array([[0.0, 0.0, 0.0], [1.0, 2.0, math.pi]])
+    cloud = particle_cloud_msg(particles, np.array([0.25, 0.75]), "map", time_msg(3.0))
+    assert [p.weight for p in cloud.particles] == [0.25, 0.75]
+    assert cloud.particles[1].pose.position.y == 2.0 and cloud.header.stamp.sec == 3
