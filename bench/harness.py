@@ -108,6 +108,7 @@ class Benchmark:
     def _add(self, metric: str, median: float, low: float, high: float, unit: str, n: int,
              note: str) -> None:
         today = _dt.date.today().isoformat()
+        note = note.replace("|", "/")  # a pipe would split the table cell
         self.rows.append(
             f"| {today} | {self.suite} | {metric} | {median:.4g} | {low:.4g} | {high:.4g} | {unit} | {n} "
             f"| {machine_description()} | {note} |\n"
