@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_stack.core.control.base import BoolArray, CostGrid, Footprint, IntArray, Twist2D, motion_collides
+from nav_stack.core.control.base import BoolArray, CostGrid, Footprint, IntArray, Twist2D
 from nav_stack.core.geometry import FloatArray, Pose2D, normalize_angles
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE
 
@@ -105,13 +105,11 @@ class MapGridScorer:
 
 
 def base_obstacle(ctx: CriticContext, traj: Trajectories, sum_scores: bool = False) -> FloatArray:
-    """Footprint cost along each trajectory (max, or sum); a collision rejects (``motion_collides``:
-    from inside the inscribed band, only trajectories that close in on an obstacle)."""
+    """Footprint cost along each trajectory (max, or sum); any collision rejects."""
     p = traj.poses
     cost = ctx.footprint.cost(ctx.grid, p[..., 0], p[..., 1], p[..., 2])
     score = cost.sum(axis=1) if sum_scores else cost.max(axis=1)
-    blocked = motion_collides(ctx.footprint, ctx.grid, p[..., 0], p[..., 1], p[..., 2], cost)
-    return np.where(blocked, np.inf, score.astype(float))
+    return np.where(ctx.footprint.collides(cost).any(axis=1), np.inf, score.astype(float))
 
 
 def forward_points(traj: Trajectories, distance: float) -> tuple[FloatArray, FloatArray]:

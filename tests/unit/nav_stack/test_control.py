@@ -133,20 +133,6 @@ def test_dwb_rejects_everything_when_boxed_in() -> None:
     assert err.value.code == ControllerErrorCode.NO_VALID_CONTROL == 106
 
 
-def test_dwb_drives_out_of_the_inscribed_band_it_finds_itself_in() -> None:
-    """Its own cell inscribed beside a wall, facing 0.3 rad away from it: Nav2's DWB rejects every
-    trajectory (all start in the band); here those that do not close in on the wall remain."""
-    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
-    grid = with_obstacle(spec, -1.0, 1.5, 0.22, 0.42)
-    path = polyline_path([(0.0, 0.0), (1.5, -0.55)])
-    start = Pose2D(0.0, 0.0, -0.3)
-    assert grid.cost_at(start.x, start.y) == INSCRIBED_INFLATED_OBSTACLE
-    dwb = DWBController()
-    cmd = dwb.compute_velocity(start, Twist2D(0.0, 0.0), path, grid)
-    assert cmd.vx > 0.0
-    assert (dwb.last_trajectory[:, 1] <= 1e-9).all(), "the chosen trajectory moves toward the wall"
-
-
 def test_dwb_follows_a_path_to_the_goal_in_a_kinematic_loop() -> None:
     spec = GridSpec(80, 80, 0.05, -1.0, -1.0)
     grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
