@@ -35,7 +35,7 @@ pytest.importorskip("nav_stack.ros.bt_navigator", reason="the Nav2 servers do no
 pytest.importorskip("nav_stack.ros.map_saver", reason="map_saver does not exist yet")
 
 from action_msgs.msg import GoalStatus
-from geometry_msgs.msg import PoseWithCovarianceStamped
+from geometry_msgs.msg import PointStamped, PoseWithCovarianceStamped
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionClient
@@ -73,10 +73,12 @@ class Probe:
         self._recent_truth: deque[tuple[float, float, float]] = deque(maxlen=400)  # ~13 s at 30 Hz
         self.errors: list[float] = []
         self.collisions: list[int] = []
+        self.contacts: list[str] = []  # where each new collision happened, for the failure message
         self.node.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
         self.node.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self._on_pose, LATCHED)
         self.node.create_subscription(UInt32, "/sim2d/collision_count",
                                       lambda m: self.collisions.append(m.data), LATCHED)
+        self.node.create_subscription(PointStamped, "/sim2d/collisions", self._on_contact, 10)
         self.navigate = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
@@ -105,6 +107,11 @@ class Probe:
                 return x0 + k * (x1 - x0), y0 + k * (y1 - y0)
         return None
 
+    def _on_contact(self, msg: PointStamped) -> None:
+        robot = "unknown" if self.truth is None else f"({self.truth[1]:.2f}, {self.truth[2]:.2f})"
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.contacts.append(f"t={stamp:.1f} s contact ({msg.point.x:.2f}, {msg.point.y:.2f}) robot {robot}")
+
     def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
         truth = self.truth_at(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9)
         if truth is not None:
@@ -124,6 +131,7 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
         stack = Stack([sim_spec(RTF), *slam_processes(PARAMS_FILE), *nav_specs()])
         try:
             done = explore(map_file, max_time=900.0, timeout=1500.0)
+            print(done.stdout[-4000:], done.stderr[-4000:])  # goals and warnings, shown when the test fails
             assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:] + stack.tail()
             assert "exploration complete" in done.stdout
             numbers = progress_numbers(done.stdout)
@@ -132,7 +140,7 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
             median = errors[len(errors) // 2]
             print(f"\nexploration: {numbers}, IoU {iou:.3f}, pose error median {median:.3f} "
                   f"max {errors[-1]:.3f} m over {len(errors)} poses")
-            assert probe.collisions and probe.collisions[-1] == 0
+            assert probe.collisions and probe.collisions[-1] == 0, f"collisions: {probe.contacts}"
             assert iou >= 0.8, f"occupied IoU with the reference {iou:.3f}"
             assert len(errors) > 50 and errors[-1] <= 0.1, f"max SLAM pose error {errors[-1]:.3f} m"
         finally:

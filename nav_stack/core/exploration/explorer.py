@@ -87,9 +87,10 @@ class Explorer:
             raise ValueError(f"occupancy shape {occupancy.shape} does not match the grid spec {spec.shape}")
         if not all(math.isfinite(v) for v in pose):
             raise ValueError(f"robot pose must be finite, got {tuple(pose)}")
-        mx, my = (int(v) for v in spec.world_to_cell(pose.x, pose.y))
-        if not bool(spec.in_bounds(mx, my)):
-            raise ValueError(f"robot pose ({pose.x:.2f}, {pose.y:.2f}) lies outside the map")
+        start = self.start_cell(occupancy, spec, pose)
+        if start is None:
+            return [], 0  # nothing known free around the robot yet: no frontier can be joined to it
+        mx, my = start
         frontiers = find_frontiers(occupancy, spec, p.occupied_threshold, p.min_frontier_size)
         if not frontiers:
             return [], 0
@@ -131,6 +132,34 @@ class Explorer:
         ]
         scored.sort(key=lambda s: s.cost)
         return scored, len(frontiers)
+
+    def start_cell(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D) -> tuple[int, int] | None:
+        """The free cell (mx, my) the searches start from: the robot's, else the nearest within robot_radius.
+
+        Why not always the robot's cell: SLAM can leave it unknown or mark it occupied (a robot
+        parked at a wall, a map rebuilt after a loop closure), and a search started in it then
+        finds no free space and every frontier looks unreachable. explore_lite starts from the
+        nearest free cell for the same reason. None: no free cell within robot_radius (m) yet,
+        i.e. the map has not grown around the robot.
+        """
+        mx, my = (int(v) for v in spec.world_to_cell(pose.x, pose.y))
+        if not bool(spec.in_bounds(mx, my)):
+            raise ValueError(f"robot pose ({pose.x:.2f}, {pose.y:.2f}) lies outside the map")
+        free = free_mask(occupancy, self.params.occupied_threshold)
+        if free[my, mx]:
+            return mx, my
+        reach = max(1, math.ceil(self.params.robot_radius / spec.resolution))
+        x0, x1 = max(0, mx - reach), min(spec.width, mx + reach + 1)
+        y0, y1 = max(0, my - reach), min(spec.height, my + reach + 1)
+        ys, xs = np.nonzero(free[y0:y1, x0:x1])
+        if xs.size == 0:
+            return None
+        cx, cy = spec.cell_to_world(xs + x0, ys + y0)
+        gap = np.hypot(cx - pose.x, cy - pose.y)
+        k = int(np.argmin(gap))
+        if gap[k] > self.params.robot_radius:
+            return None
+        return int(xs[k] + x0), int(ys[k] + y0)
 
     def _goal_for(
         self, frontier: Frontier, rx: np.ndarray, ry: np.ndarray, rd: np.ndarray, pose: Pose2D

@@ -142,6 +142,20 @@ def test_a_reached_goal_whose_frontier_persists_is_blacklisted() -> None:
     assert explorer.blacklist
 
 
+def test_a_robot_whose_own_cell_is_not_free_searches_from_the_nearest_free_cell() -> None:
+    data, spec = half_known_room()
+    data[9:12, 4:7] = 100  # SLAM marked the robot's cell and its 8 neighbours occupied (robot at cell 5, 10)
+    explorer = Explorer()
+    assert explorer.start_cell(data, spec, Pose2D(0.55, 1.05, 0.0)) in {(3, 10), (7, 10), (5, 8), (5, 12)}
+    result = explorer.next_goal(data, spec, Pose2D(0.55, 1.05, 0.0))
+    assert result.status is ExplorationStatus.GOAL and result.goal is not None  # from (5, 10): none
+    assert data[tuple(reversed(spec.world_to_cell(result.goal.x, result.goal.y)))] == 0
+    data[5:16, 1:10] = -1  # nothing known within robot_radius: the map has not grown around the robot yet
+    data[9:12, 4:7] = 100
+    assert explorer.start_cell(data, spec, Pose2D(0.55, 1.05, 0.0)) is None
+    assert explorer.next_goal(data, spec, Pose2D(0.55, 1.05, 0.0)).status is ExplorationStatus.COMPLETE
+
+
 def test_complete_on_a_fully_known_map_and_when_frontiers_are_unreachable() -> None:
     spec = GridSpec(30, 20, RES)
     assert (
