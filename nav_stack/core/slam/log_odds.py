@@ -120,6 +120,26 @@ class LogOddsGrid:
         self._scratch[cells] = order
         return np.asarray(cells[self._scratch[cells] == order], dtype=np.int64)
 
+    def occupied_points(
+        self, center: tuple[float, float], half_size: float, occupied_thresh: float
+    ) -> FloatArray:
+        """Centres (m, map frame) of cells at or above ``occupied_thresh`` (probability) in the
+        square of half side ``half_size`` (m) around ``center``: the map a new scan is matched to."""
+        spec = self.spec
+        if spec is None:
+            return np.zeros((0, 2))
+        res = self.resolution
+        x0, y0 = self._cell0
+        h, w = self._log_odds.shape
+        c0 = max(0, math.floor((center[0] - half_size) / res) - x0)
+        c1 = min(w, math.floor((center[0] + half_size) / res) - x0 + 1)
+        r0 = max(0, math.floor((center[1] - half_size) / res) - y0)
+        r1 = min(h, math.floor((center[1] + half_size) / res) - y0 + 1)
+        if c0 >= c1 or r0 >= r1:
+            return np.zeros((0, 2))
+        rows, cols = np.nonzero(self._log_odds[r0:r1, c0:c1] >= _logit(occupied_thresh))
+        return np.column_stack(((cols + c0 + x0 + 0.5) * res, (rows + r0 + y0 + 0.5) * res))
+
     def occupancy(self, occupied_thresh: float, free_thresh: float) -> tuple[npt.NDArray[np.int8], GridSpec]:
         """Trinary OccupancyGrid values (100 occupied, 0 free, -1 unknown) cropped to the observed cells."""
         spec = self.spec

@@ -226,7 +226,14 @@ class GridSlam:
             if math.hypot(self._poses[k, 0] - predicted.x, self._poses[k, 1] - predicted.y)
             <= p.scan_buffer_maximum_scan_distance
         ]
-        return self._match(self._hits_in_map(buffer), points.hits, predicted, self._link_window)
+        reference = self._hits_in_map(buffer)
+        if p.match_against_map:
+            if self._map_dirty:
+                self._rebuild_map()
+            half = p.max_laser_range + self._link_window.half_extent
+            near = self._grid.occupied_points((predicted.x, predicted.y), half, p.occupied_thresh)
+            reference = np.vstack((reference, near))
+        return self._match(reference, points.hits, predicted, self._link_window)
 
     def _try_loop_closure(self) -> bool:
         """Match the newest scan against the nearest unlinked chain; on success add the edge and optimise."""

@@ -78,6 +78,15 @@ def test_log_odds_grid_marks_endpoints_clears_beams_and_grows() -> None:
     assert (occupancy[my, mx] == 100).all()  # the old endpoint survived the re-allocation
 
 
+def test_occupied_points_are_the_centres_of_occupied_cells_near_a_point() -> None:
+    grid = LogOddsGrid(0.05, 0.7, 0.4, (0.12, 0.97))
+    assert grid.occupied_points((0.0, 0.0), 1.0, 0.65).shape == (0, 2)  # nothing integrated yet
+    grid.integrate((0.0, 0.0), np.array([[1.01, 0.01], [-2.02, 0.01]]), np.zeros((0, 2)))
+    np.testing.assert_allclose(grid.occupied_points((0.0, 0.0), 1.5, 0.65), [[1.025, 0.025]])
+    assert len(grid.occupied_points((0.0, 0.0), 2.5, 0.65)) == 2
+    assert grid.occupied_points((10.0, 10.0), 1.0, 0.65).shape == (0, 2)  # a window off the grid
+
+
 def test_empty_map_is_a_clear_error() -> None:
     with pytest.raises(ValueError, match="no scan"):
         GridSlam().occupancy()
