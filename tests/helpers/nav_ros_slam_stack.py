@@ -79,6 +79,11 @@ class Stack:
     def alive(self) -> bool:
         return all(r.proc.poll() is None for r in self.launcher.running)
 
+    def logged(self, process: str, text: str) -> bool:
+        """Whether ``process`` (its prefix) has printed a line containing ``text``."""
+        with self._lock:
+            return any(line.startswith(f"[{process}]") and text in line for line in self.lines)
+
     def tail(self, n: int = 80) -> str:
         with self._lock:
             return "\n".join(self.lines[-n:])

@@ -38,9 +38,12 @@ def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
         run = run_autonomy(params, timeout=900.0)
     finally:
         launcher.shutdown()  # type: ignore[attr-defined]
-    assert run.returncode == 0, run.output[-4000:]
-    assert [result for result, _ in run.cycles()] == ["FAILURE", "SUCCESS"] * 2, run.output[-4000:]
-    assert run.visited() == SEED_TRACE, run.output[-4000:]
+    # Warnings and errors first (a failed goal names its error code there), then the output's end.
+    report = "\n".join(line for line in run.output.splitlines() if "[WARN]" in line or "[ERROR]" in line)
+    report += "\n...\n" + run.output[-3000:]
+    assert run.returncode == 0, report
+    assert [result for result, _ in run.cycles()] == ["FAILURE", "SUCCESS"] * 2, report
+    assert run.visited() == SEED_TRACE, report
 
 
 def test_sm_battery_patrol_does_two_rounds_on_the_simulated_battery() -> None:

@@ -79,6 +79,9 @@ class Probe:
         self.node.create_subscription(UInt32, "/sim2d/collision_count",
                                       lambda m: self.collisions.append(m.data), LATCHED)
         self.node.create_subscription(PointStamped, "/sim2d/collisions", self._on_contact, 10)
+        self.amcl_poses: list[PoseWithCovarianceStamped] = []
+        self.node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self.amcl_poses.append,
+                                      LATCHED)
         self.navigate = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
@@ -150,6 +153,11 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
         assert (saved.data == -1).any(), "unknown cells must stay unknown after the round trip"
         stack = Stack([sim_spec(RTF), *localization_specs(map_file.with_suffix(".yaml")), *nav_specs()])
         try:
+            # Phase 1's navigate_to_pose may still be in the graph, and AMCL publishes map -> odom only
+            # after its first scan: wait for this stack's bt_navigator and AMCL, as BasicNavigator does.
+            wait_until(lambda: stack.logged("bt_navigator", "Activating") or not stack.alive(), 60.0,
+                       "bt_navigator activating")
+            wait_until(lambda: bool(probe.amcl_poses) or not stack.alive(), 60.0, "/amcl_pose")
             wait_until(lambda: probe.navigate.server_is_ready() or not stack.alive(), 60.0,
                        "navigate_to_pose")
             goal = NavigateToPose.Goal()
