@@ -158,10 +158,11 @@ class PolygonFootprint:
         return np.asarray(cost >= LETHAL_OBSTACLE)  # lethal, or unknown / off the grid (255)
 
 
-def motion_collides(footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray,
-                    cost: IntArray | None = None) -> BoolArray:
-    """Which simulated motions collide: poses along the last axis, each motion starting where the
-    robot stands now (index 0); ``cost`` is ``footprint.cost`` of the poses if already computed.
+def motion_collides(
+    footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray
+) -> bool:
+    """Whether one simulated motion collides: poses (m, m, rad) along the arrays, starting where the
+    robot stands now (index 0).
 
     Why the exception: the costmap's cells make obstacles look up to about a cell larger than they
     are, so a round robot that passed a pillar with centimetres to spare can find its own cell in
@@ -173,16 +174,15 @@ def motion_collides(footprint: Footprint, grid: CostGrid, x: FloatArray, y: Floa
     shim use it; DWB does not: for its 400 trajectories × 35 poses the clearances take about 30 ms
     a cycle, which slowed the SLAM exploration past its time limit.
     """
-    cost = footprint.cost(grid, x, y, yaw) if cost is None else cost
+    cost = footprint.cost(grid, x, y, yaw)
     hits = footprint.collides(cost)
-    blocked = np.asarray(hits.any(axis=-1))
-    if not blocked.any() or not isinstance(footprint, CircleFootprint):
-        return blocked
-    inside = blocked & (cost[..., 0] == INSCRIBED_INFLATED_OBSTACLE) & ~(cost >= LETHAL_OBSTACLE).any(axis=-1)
-    if inside.any():
-        clearance = grid.lethal_clearance(x[inside], y[inside], footprint.radius + grid.spec.resolution)
-        blocked[inside] = ((clearance < clearance[..., :1]) & hits[inside]).any(axis=-1)
-    return blocked
+    if not hits.any():
+        return False
+    inside_band = cost[0] == INSCRIBED_INFLATED_OBSTACLE and not (cost >= LETHAL_OBSTACLE).any()
+    if not inside_band or not isinstance(footprint, CircleFootprint):
+        return True
+    clearance = grid.lethal_clearance(x, y, footprint.radius + grid.spec.resolution)
+    return bool(((clearance < clearance[0]) & hits).any())
 
 
 def turn_in_place(angle: float, current_wz: float, max_wz: float, max_accel: float, period: float) -> float:

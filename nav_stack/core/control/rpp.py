@@ -273,4 +273,4 @@ class RegulatedPurePursuit:
             if len(arrived):
                 keep[arrived[0] + 1:] = False
         keep[0] = True
-        return bool(motion_collides(self.footprint, grid, x[keep], y[keep], yaw[keep]))
+        return motion_collides(self.footprint, grid, x[keep], y[keep], yaw[keep])
