@@ -66,8 +66,8 @@ def explore(
         started = time.perf_counter()
         result = explorer.next_goal(occupancy, spec, estimate)
         explorer_times.append(time.perf_counter() - started)
-        if result.status is ExplorationStatus.COMPLETE or result.goal is None:
-            complete = True
+        if result.goal is None:
+            complete = result.status is ExplorationStatus.COMPLETE
             break
         goals += 1
         for step in interpolate(world.path(truth_spec, pose, result.goal, 0.2), 0.1)[1:]:

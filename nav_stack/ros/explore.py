@@ -10,9 +10,9 @@ Loop (a sim-time timer; nothing blocks the executor, goals are futures with done
   1. wait for /map (transient local) and the robot pose (TF map → base_footprint);
   2. after a goal ended, wait until a map stamped after that moment arrives (or ``map_wait`` s), so
      the next choice sees what the robot just observed;
-  3. ``Explorer.next_goal``: COMPLETE (no reachable frontier of ``min_frontier_size`` left, with mapped
-     free space within robot_radius of the robot to search from) ends the run with "exploration
-     complete"; otherwise send the goal as NavigateToPose (frame map);
+  3. ``Explorer.next_goal``: COMPLETE (no reachable frontier of ``min_frontier_size`` left) ends the run
+     with "exploration complete"; NO_FREE_SPACE (nothing mapped free within robot_radius of the robot
+     yet) waits; otherwise send the goal as NavigateToPose (frame map);
   4. SUCCEEDED → ``mark_reached``; rejected, aborted, canceled or over ``goal_timeout`` → ``mark_failed``
      (explore_lite's blacklist), then back to 1. ``max_time`` sim s ends the run early (exit code 3).
 A progress line (goals, mapped area, elapsed sim time) is printed per goal and every ``progress_period``.
@@ -164,12 +164,12 @@ class ExploreNode(Node):
         except (FrameError, ValueError) as error:
             self.get_logger().warning(f"cannot choose a goal yet: {error}", throttle_duration_sec=5.0)
             return
+        if result.status is ExplorationStatus.NO_FREE_SPACE:
+            self.get_logger().info(
+                f"no frontier yet: nothing within {self.explorer.params.robot_radius:.2f} m of the robot "
+                f"({pose.x:.2f}, {pose.y:.2f}) is mapped free", throttle_duration_sec=5.0)
+            return
         if result.status is ExplorationStatus.COMPLETE or result.goal is None:
-            if self.explorer.start_cell(self.map[0], self.map[1], pose) is None:
-                self.get_logger().info(
-                    f"no frontier yet: nothing within {self.explorer.params.robot_radius:.2f} m of the robot "
-                    f"({pose.x:.2f}, {pose.y:.2f}) is mapped free", throttle_duration_sec=5.0)
-                return
             self._finish("exploration complete", 0)
             return
         self._send(result.goal)

@@ -5,6 +5,7 @@ Typical use (an exploration node, each time the robot is idle)::
     explorer = Explorer(ExplorerParams(robot_radius=0.22))
     result = explorer.next_goal(occupancy, spec, robot_pose)
     if result.status is ExplorationStatus.COMPLETE: ...        # done
+    elif result.status is ExplorationStatus.NO_FREE_SPACE: ... # wait for SLAM to map around the robot
     else: navigate to result.goal; explorer.mark_reached(goal) or explorer.mark_failed(goal)
 """
 

@@ -32,6 +32,7 @@ class ExplorationStatus(enum.Enum):
 
     GOAL = "goal"  # a goal was chosen
     COMPLETE = "complete"  # no reachable frontier of at least min_frontier_size remains
+    NO_FREE_SPACE = "no_free_space"  # nothing within robot_radius of the robot is mapped free yet
 
 
 @dataclass(frozen=True)
@@ -83,13 +84,9 @@ class Explorer:
     def score(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D) -> tuple[list[ScoredFrontier], int]:
         """All frontiers with a reachable, non-blacklisted goal, cheapest first, and the frontier count."""
         p = self.params
-        if occupancy.shape != spec.shape:
-            raise ValueError(f"occupancy shape {occupancy.shape} does not match the grid spec {spec.shape}")
-        if not all(math.isfinite(v) for v in pose):
-            raise ValueError(f"robot pose must be finite, got {tuple(pose)}")
         start = self.start_cell(occupancy, spec, pose)
         if start is None:
-            return [], 0  # nothing known free around the robot yet: no frontier can be joined to it
+            return [], 0  # nothing mapped free around the robot: no frontier can be joined to it
         mx, my = start
         frontiers = find_frontiers(occupancy, spec, p.occupied_threshold, p.min_frontier_size)
         if not frontiers:
@@ -140,8 +137,13 @@ class Explorer:
         parked at a wall, a map rebuilt after a loop closure), and a search started in it then
         finds no free space and every frontier looks unreachable. explore_lite starts from the
         nearest free cell for the same reason. None: no free cell within robot_radius (m) yet,
-        i.e. the map has not grown around the robot.
+        i.e. the map has not grown around the robot. Bad inputs (shape, NaN pose, off the map) raise
+        ValueError naming the value.
         """
+        if occupancy.shape != spec.shape:
+            raise ValueError(f"occupancy shape {occupancy.shape} does not match the grid spec {spec.shape}")
+        if not all(math.isfinite(v) for v in pose):
+            raise ValueError(f"robot pose must be finite, got {tuple(pose)}")
         mx, my = (int(v) for v in spec.world_to_cell(pose.x, pose.y))
         if not bool(spec.in_bounds(mx, my)):
             raise ValueError(f"robot pose ({pose.x:.2f}, {pose.y:.2f}) lies outside the map")
@@ -183,7 +185,10 @@ class Explorer:
         return Pose2D(x, y, yaw), float(rd[k])
 
     def next_goal(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D) -> ExplorationResult:
-        """The next exploration goal for a robot at ``pose`` (map frame), or COMPLETE."""
+        """The next exploration goal for a robot at ``pose`` (map frame), COMPLETE, or NO_FREE_SPACE
+        while the map has not grown around the robot (so far nothing can be called complete)."""
+        if self.start_cell(occupancy, spec, pose) is None:
+            return ExplorationResult(ExplorationStatus.NO_FREE_SPACE, None)
         while True:
             scored, count = self.score(occupancy, spec, pose)
             if not scored:

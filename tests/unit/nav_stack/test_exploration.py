@@ -153,7 +153,7 @@ def test_a_robot_whose_own_cell_is_not_free_searches_from_the_nearest_free_cell(
     data[5:16, 1:10] = -1  # nothing known within robot_radius: the map has not grown around the robot yet
     data[9:12, 4:7] = 100
     assert explorer.start_cell(data, spec, Pose2D(0.55, 1.05, 0.0)) is None
-    assert explorer.next_goal(data, spec, Pose2D(0.55, 1.05, 0.0)).status is ExplorationStatus.COMPLETE
+    assert explorer.next_goal(data, spec, Pose2D(0.55, 1.05, 0.0)).status is ExplorationStatus.NO_FREE_SPACE
 
 
 def test_complete_on_a_fully_known_map_and_when_frontiers_are_unreachable() -> None:
