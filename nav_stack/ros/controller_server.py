@@ -49,6 +49,7 @@ from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.cmd_vel import CmdVelPublisher
 from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
 from nav_stack.ros.conversions import path_from_array, path_to_array
+from nav_stack.ros.costmap_params import parse_footprint
 from nav_stack.ros.costmap_ros import CostmapROS, run_transition
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.goal_runs import GoalRun, Outcome
@@ -75,6 +76,10 @@ class ControllerServerParams:
     costmap_update_timeout: float = 0.30  # s a goal waits for a first local costmap
     enable_stamped_cmd_vel: bool = False
     odom_topic: str = "odom"
+    # Not in Nav2: the robot's outline "[[x, y], ...]" (m, robot frame) that RPP and the rotation
+    # shim also keep off lethal cells when the costmap models the robot as a robot_radius circle
+    # that does not contain it (CircleFootprint.body); "[]" = the circle only.
+    collision_footprint: str = "[]"
 
     def __post_init__(self) -> None:
         if not self.controller_frequency > 0.0:
@@ -115,8 +120,9 @@ class ControllerServer(NavLifecycleNode):
         costmap = self.costmap_node.costmap
         assert costmap is not None
         cp = self.costmap_node.params
-        footprint: Any = (PolygonFootprint(cp.footprint) if cp.footprint
-                          else CircleFootprint(costmap.inscribed_radius))
+        body = parse_footprint(p.collision_footprint, self.get_name(), "collision_footprint")
+        footprint: Any = PolygonFootprint(cp.footprint) if cp.footprint else CircleFootprint(
+            costmap.inscribed_radius, PolygonFootprint(body) if body else None)
         self.plugins: ControllerPlugins = build_plugins(
             self, p.controller_plugins, p.goal_checker_plugins, p.progress_checker_plugins, footprint,
             costmap.inscribed_radius, p.controller_frequency)

@@ -37,13 +37,13 @@ _OBSTACLE = ("ObstacleLayer", "VoxelLayer")  # a voxel layer is served by the 2D
 _INFLATION = "InflationLayer"
 
 
-def parse_footprint(text: str, node_name: str) -> tuple[tuple[float, float], ...]:
+def parse_footprint(text: str, node_name: str, param: str = "footprint") -> tuple[tuple[float, float], ...]:
     """Nav2's footprint string ``"[[x, y], [x, y], ...]"`` (m, robot frame); ``"[]"`` = use robot_radius."""
     try:
         points = yaml.safe_load(text) if text.strip() else []
         footprint = tuple((float(x), float(y)) for x, y in points or [])
     except (yaml.YAMLError, TypeError, ValueError) as error:
-        raise ValueError(f"{node_name}: parameter footprint must look like '[[x, y], ...]', got {text!r}") \
+        raise ValueError(f"{node_name}: parameter {param} must look like '[[x, y], ...]', got {text!r}") \
             from error
     return footprint
 

@@ -116,9 +116,15 @@ class CircleFootprint:
     """A round robot on an inflated costmap: the centre cell's cost decides (Nav2's radius mode).
 
     Costs ≥ 253 (inscribed, lethal, unknown/off-grid) mean the disc touches an obstacle.
+
+    ``body``: the robot's real outline when the circle does not contain it, checked against lethal
+    cells as well (:func:`motion_collides`). Nav2's TurtleBot3 waffle has robot_radius 0.22 m, but
+    its collision box (0.266 × 0.266 m, centred 0.064 m behind the axle) reaches 0.238 m at the rear
+    corners: a turn on the spot with the centre 0.22–0.238 m from a pillar swings a corner into it.
     """
 
     radius: float = 0.22
+    body: PolygonFootprint | None = None
 
     def cost(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> IntArray:
         return grid.cost_at(x, y)
@@ -170,10 +176,25 @@ def motion_collides(
     would "collide" and the robot would never leave. A round robot inside the band may therefore
     move within it as long as no pose comes closer to a lethal cell than it is now: it can turn,
     slide along the obstacle or back out, never push further in. Lethal and unknown cells always
-    collide; polygon footprints check lethal cost only and need no exception. RPP and the rotation
-    shim use it; DWB does not: for its 400 trajectories × 35 poses the clearances take about 30 ms
-    a cycle, which slowed the SLAM exploration past its time limit.
+    collide; polygon footprints check lethal cost only and need no exception. A circle's ``body``
+    outline must stay off lethal cells too, unless it already touches one where the robot stands
+    (then the circle's rules alone decide, so that the robot can still back out). RPP and the
+    rotation shim use it; DWB does not: for its 400 trajectories × 35 poses the clearances take
+    about 30 ms a cycle, which slowed the SLAM exploration past its time limit.
     """
+    if _footprint_collides(footprint, grid, x, y, yaw):
+        return True
+    body = footprint.body if isinstance(footprint, CircleFootprint) else None
+    if body is None:
+        return False
+    touches = body.collides(body.cost(grid, x, y, yaw))
+    return bool(touches.any() and not touches[0])
+
+
+def _footprint_collides(
+    footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray
+) -> bool:
+    """The footprint's own rule, with the in-band exception for circles (:func:`motion_collides`)."""
     cost = footprint.cost(grid, x, y, yaw)
     hits = footprint.collides(cost)
     if not hits.any():

@@ -53,3 +53,13 @@ def test_prefix_and_invalid_value_names_node_parameter_and_value(ros_context):
             declare_dataclass(node, Knobs, prefix="FollowPath.")
     finally:
         node.destroy_node()
+
+
+def test_a_malformed_footprint_string_names_the_node_and_the_parameter():
+    from nav_stack.ros.costmap_params import parse_footprint
+
+    triangle = parse_footprint("[[0.1, 0.2], [0.1, -0.2], [-0.1, 0.0]]", "n")
+    assert triangle == ((0.1, 0.2), (0.1, -0.2), (-0.1, 0.0))
+    assert parse_footprint("[]", "n") == ()
+    with pytest.raises(ValueError, match=r"controller_server: parameter collision_footprint must look like"):
+        parse_footprint("[[0.1, 0.2], [oops", "controller_server", "collision_footprint")

@@ -19,6 +19,7 @@ from nav_stack.core.control import (
     InvalidPath,
     NoValidControl,
     PathHandler,
+    PolygonFootprint,
     RegulatedPurePursuit,
     RPPParams,
     SimpleGoalChecker,
@@ -305,6 +306,28 @@ def test_a_round_robot_inside_the_inscribed_band_may_turn_slide_and_back_out_but
     assert collides(inside, Twist2D(0.05, 0.0)), "pushing further in"
     outside = Pose2D(0.2, 0.0, 0.0)
     assert collides(outside, Twist2D(0.15, 0.0)), "entering the band from outside"
+
+
+WAFFLE_BOX = ((-0.197, -0.133), (0.069, -0.133), (0.069, 0.133), (-0.197, 0.133))  # m, sim2d's waffle
+
+
+def test_a_body_outline_keeps_the_corners_of_a_turn_off_lethal_cells() -> None:
+    """Centre 0.23 m from a wall (outside the 0.22 m band): the circle alone lets the robot turn
+    on the spot, but the waffle's rear corners (0.238 m from the axle) would swing into the wall;
+    once the body already touches, the circle's rules decide again so the robot can still leave."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.5, 0.7, -1.0, 1.0)  # lethal cells from x = 0.5
+    yaw = np.linspace(0.0, 2.0 * math.pi, 37)
+
+    def turn_collides(fp: CircleFootprint, x: float, heading: float) -> bool:
+        return motion_collides(fp, grid, np.full_like(yaw, x), np.zeros_like(yaw), heading + yaw)
+
+    circle, waffle = CircleFootprint(0.22), CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
+    assert grid.cost_at(0.27, 0.0) < INSCRIBED_INFLATED_OBSTACLE
+    assert not turn_collides(circle, 0.27, 0.0)
+    assert turn_collides(waffle, 0.27, 0.0), "a rear corner reaches x = 0.508 m"
+    assert not turn_collides(waffle, 0.20, 0.0), "0.30 m from the wall the corners clear it"
+    assert not turn_collides(waffle, 0.35, math.pi), "corners already in the wall: the band rules decide"
 
 
 def test_rpp_facing_into_a_wall_turns_on_the_spot_then_leaves_the_band_without_closing_in() -> None:
