@@ -112,6 +112,7 @@ class SlamNode(NavLifecycleNode):
         self.map_msg: OccupancyGrid | None = None
         self.process_times: list[float] = []  # wall s of each processed scan (bench/bench_slam_system.py)
         self.paused = False
+        self.ignored_scans = 0  # scans received while paused, since the last pause
         self._slam_lock = threading.Lock()
         self._mailbox = threading.Condition()
         self._latest: tuple[LaserScanMsg, float] | None = None
@@ -182,6 +183,7 @@ class SlamNode(NavLifecycleNode):
     # -- scans: the callback parks, the worker processes ----------------------------------------
     def _on_scan(self, msg: LaserScanMsg) -> None:
         if self.paused:
+            self.ignored_scans += 1
             return
         with self._mailbox:
             self._latest = (msg, time.monotonic())
@@ -271,6 +273,10 @@ class SlamNode(NavLifecycleNode):
 
     # -- services --------------------------------------------------------------------------------
     def _on_pause(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
+        if request.data and not self.paused:
+            self.ignored_scans = 0
+        elif not request.data and self.paused:
+            self.get_logger().info(f"ignored {self.ignored_scans} scans while paused")
         self.paused = bool(request.data)
         response.success = True
         response.message = "new measurements paused" if self.paused else "new measurements resumed"

@@ -8,6 +8,7 @@ one-slot mailbox and the run is deterministic.
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 from typing import Any
 
@@ -79,6 +80,20 @@ def drive(robot: FakeRobot, probe: Probe, poses: list[Any]) -> None:
                    f"slam/pose of the scan at {t:.1f} s")
 
 
+class Settled:
+    """True once ``value()`` is positive and has not changed for ``quiet`` s (wall)."""
+
+    def __init__(self, value: Any, quiet: float = 1.0) -> None:
+        self.value, self.quiet = value, quiet
+        self.last, self.since = value(), time.monotonic()
+
+    def __call__(self) -> bool:
+        now = self.value()
+        if now != self.last:
+            self.last, self.since = now, time.monotonic()
+        return now > 0 and time.monotonic() - self.since >= self.quiet
+
+
 def known_cells(msg: OccupancyGrid) -> int:
     return int((grid_from_occupancy(msg)[0] >= 0).sum())
 
@@ -110,6 +125,8 @@ def test_pause_ignores_scans_until_resumed(rig: Any) -> None:
     paused_from = robot.time
     for pose in path[5:30]:
         robot.step(pose)
+    settled = Settled(lambda: slam.ignored_scans)  # the paused scans reach the node (best effort)
+    wait_until(settled, 10.0, "the scans sent while paused to arrive")
     assert probe.call(probe.pause, SetBool.Request(data=False)).success
     resumed_at = robot.time
     drive(robot, probe, path[30:32])
