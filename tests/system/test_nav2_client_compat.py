@@ -144,8 +144,9 @@ def test_basic_navigator_session(nav):
     nav.wait_until_nav2_active()
 
     nav.start("compute_path_to_pose", ComputePathToPose.Goal(goal=_pose(0.55, 0.0), use_start=False))
-    path = nav.result().result.path
-    assert len(path.poses) > 10 and path.header.frame_id == "map"
+    planned = nav.result().result
+    path = planned.path
+    assert len(path.poses) > 10 and path.header.frame_id == "map", (planned.error_code, planned.error_msg)
 
     nav.start("navigate_to_pose", NavigateToPose.Goal(pose=_pose(-0.55, -1.65)))
     assert nav.result().status == GoalStatus.STATUS_SUCCEEDED

@@ -154,7 +154,7 @@ def test_navigate_through_poses_plans_through_all_poses(rig):
     goal.poses = [nav_goal(1.0, 0.0).pose, nav_goal(2.0, 1.0).pose]
     result = rig.result(rig.send(client, goal))
 
-    assert result.status == GoalStatus.STATUS_SUCCEEDED
+    assert result.status == GoalStatus.STATUS_SUCCEEDED, (result.result.error_code, result.result.error_msg)
     planned = rig.fake.goals["compute_path_through_poses"][0]
     assert [(p.pose.position.x, p.pose.position.y) for p in planned.goals] == [(1.0, 0.0), (2.0, 1.0)]
     assert rig.feedback[-1].number_of_poses_remaining == 2

@@ -170,6 +170,12 @@ def test_undo_path_backwards_undoes_the_recorded_motion(stack, ros_context, turn
         spin_until(executor, lambda: math.hypot(*fake.map_pose()[:2]) > 0.6, 10.0, "the robot to move 0.6 m")
         fake.cmd = Twist()
         tracker = runtime.sm.requires_component(CpOdomTracker)
+
+        def tracker_saw_the_stop() -> bool:  # odometry is best effort and the SM's executor may lag
+            seen = tracker.last_pose
+            return seen is not None and math.dist(seen[:2], fake.odom_pose[:2]) < 0.005
+
+        spin_until(executor, tracker_saw_the_stop, 10.0, "the tracker to see the robot stopped")
         recorded = tracker.path()
         assert len(recorded) >= 5
         pub.publish(UInt16(data=ord("u")))
