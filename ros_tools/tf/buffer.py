@@ -57,8 +57,9 @@ class _Edge:
                 f"[{child}] to frame [{self.parent}]"
             )
         i = bisect.bisect_left(self.stamps, time)
-        if i < len(self.stamps) and abs(self.stamps[i] - time) <= 1e-9:
-            return self.transforms[i]
+        for j in (i - 1, i):  # a stamp within the 1 ns tolerance, on either side (also past either end)
+            if 0 <= j < len(self.stamps) and abs(self.stamps[j] - time) <= 1e-9:
+                return self.transforms[j]
         t0, t1 = self.stamps[i - 1], self.stamps[i]
         return interpolate(self.transforms[i - 1], self.transforms[i], (time - t0) / (t1 - t0))
 

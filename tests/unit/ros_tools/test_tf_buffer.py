@@ -103,3 +103,16 @@ def test_clear_keeps_static_transforms():
     buf.clear()
     assert buf.lookup("base", "scan").x == 1.0
     assert not buf.can_transform("odom", "scan")
+
+
+def test_a_stamp_within_a_nanosecond_of_either_end_is_that_transform():
+    """Float seconds from a builtin Time can land a hair past the newest (or before the oldest) stamp;
+    tf2 compares nanoseconds, so such a lookup is the stored transform, not an error."""
+    buf = TransformBuffer()
+    buf.set_transform("odom", "base_footprint", 100.0, Transform.from_xy_yaw(1.0, 0.0, 0.0))
+    buf.set_transform("odom", "base_footprint", 100.2, Transform.from_xy_yaw(2.0, 0.0, 0.0))
+    assert math.isclose(buf.lookup("odom", "base_footprint", 100.2 + 5e-10).x, 2.0)
+    assert math.isclose(buf.lookup("odom", "base_footprint", 100.0 - 5e-10).x, 1.0)
+    assert math.isclose(buf.lookup("odom", "base_footprint", 100.1).x, 1.5)
+    with pytest.raises(ExtrapolationError):
+        buf.lookup("odom", "base_footprint", 100.2 + 1e-6)
