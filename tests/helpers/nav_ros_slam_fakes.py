@@ -10,6 +10,7 @@ origin of ``odom`` (as sim2d's does), so map → odom equals the start pose when
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -62,12 +63,15 @@ class FakeRobot(Node):
         self.tf_static.send([transform_to_msg(Transform(LASER_X, 0.0, 0.122), "base_footprint", "base_scan",
                                               stamp(0.0))])
 
-    def step(self, pose: Pose2D) -> float:
-        """Publish the robot at world ``pose``; returns the stamp (s) used."""
+    def step(self, pose: Pose2D, before_scan: Callable[[float], None] | None = None) -> float:
+        """Publish the robot at world ``pose``: its odometry TF, then ``before_scan(stamp)`` if given
+        (e.g. to wait until the node has that TF), then the scan; returns the stamp (s) used."""
         self.time += SCAN_PERIOD
         odom = compose(inverse(self.odom_origin), pose)
         when = stamp(self.time)
         self.tf.send([transform_to_msg(Transform.from_xy_yaw(*odom), "odom", "base_footprint", when)])
+        if before_scan is not None:
+            before_scan(self.time)
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
         sensor = Pose2D(pose.x + c * LASER_X, pose.y + s * LASER_X, pose.yaw)
         scan = self.world.scan(sensor, noise_std=0.01, rng=self.rng)

@@ -28,6 +28,7 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_node import SlamNode
+from ros_tools.tf.buffer import TransformError
 from tests.helpers.nav_ros_slam_fakes import START, TRUTH_SPEC, FakeRobot, tour
 from tests.helpers.nav_ros_world import Harness
 from tests.helpers.ros import wait_until
@@ -72,10 +73,23 @@ def rig(ros_context: Any) -> Any:
         harness.close()
 
 
-def drive(robot: FakeRobot, probe: Probe, poses: list[Any]) -> None:
-    """Publish each pose and wait for the node's pose of that scan."""
+def drive(robot: FakeRobot, probe: Probe, poses: list[Any], slam: SlamNode) -> None:
+    """Publish each pose and wait for the node's pose of that scan. The scan goes out only once the
+    node has the odometry TF at its stamp: it drops a scan whose TF is 0.3 s late, which happened in
+    loaded CI runs."""
+
+    def has_odometry(t: float) -> bool:
+        try:
+            slam.tf.lookup("odom", "base_footprint", t)
+        except TransformError:
+            return False
+        return True
+
+    def node_has_odometry(t: float) -> None:
+        wait_until(lambda: has_odometry(t), 10.0, f"the slam node's odometry TF at {t:.1f} s")
+
     for pose in poses:
-        t = robot.step(pose)
+        t = robot.step(pose, before_scan=node_has_odometry)
         wait_until(lambda t=t: any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:]), 10.0,
                    f"slam/pose of the scan at {t:.1f} s")
 
@@ -101,7 +115,7 @@ def known_cells(msg: OccupancyGrid) -> int:
 def test_map_grows_matches_the_room_and_tracks_the_pose(rig: Any) -> None:
     slam, robot, probe = rig
     path = tour(robot.world)
-    drive(robot, probe, path)
+    drive(robot, probe, path, slam)
     wait_until(lambda: len(probe.maps) >= 3, 10.0, "three /map messages")
     assert known_cells(probe.maps[0]) < known_cells(probe.maps[-1]), "the map did not grow"
     data, spec = grid_from_occupancy(probe.maps[-1])
@@ -120,7 +134,7 @@ def test_map_grows_matches_the_room_and_tracks_the_pose(rig: Any) -> None:
 def test_pause_ignores_scans_until_resumed(rig: Any) -> None:
     slam, robot, probe = rig
     path = tour(robot.world)
-    drive(robot, probe, path[:5])
+    drive(robot, probe, path[:5], slam)
     assert probe.call(probe.pause, SetBool.Request(data=True)).success
     paused_from = robot.time
     for pose in path[5:30]:
@@ -129,7 +143,7 @@ def test_pause_ignores_scans_until_resumed(rig: Any) -> None:
     wait_until(settled, 10.0, "the scans sent while paused to arrive")
     assert probe.call(probe.pause, SetBool.Request(data=False)).success
     resumed_at = robot.time
-    drive(robot, probe, path[30:32])
+    drive(robot, probe, path[30:32], slam)
     ignored = [s for s in probe.stamps() if paused_from < s <= resumed_at]
     assert ignored == [], f"poses published while paused: {ignored}"
     assert slam.slam is not None and len(slam.slam.poses) >= 2
@@ -139,7 +153,7 @@ def test_save_map_writes_a_map_that_map_io_loads(rig: Any, tmp_path: Path) -> No
     slam, robot, probe = rig
     refused = probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "early")))
     assert not refused.result, "saved a map before any scan"
-    drive(robot, probe, tour(robot.world)[:25])
+    drive(robot, probe, tour(robot.world)[:25], slam)
     png = probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "m"), image_format="png"))
     assert not png.result and not (tmp_path / "m.yaml").exists()
     assert probe.call(probe.save, SaveMap.Request(map_url=str(tmp_path / "m"))).result
