@@ -18,6 +18,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.ros.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
+from nav_stack.ros.frames import FrameError
 from nav_stack.ros.qos import LATCHED
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_rig import NAVIGATOR_OVERRIDES, Rig, start_rig, stop_rig
@@ -30,9 +31,20 @@ def rig(ros_context) -> Iterator[Rig]:
     rig = start_rig(ros_context, lambda context: BtNavigator(context=context,
                                                              parameter_overrides=NAVIGATOR_OVERRIDES))
     try:
+        # The fake's map -> base_link is latched, but it reaches the navigator's TF buffer only after
+        # discovery; a goal sent before that fails the tree's first pose lookup (RemovePassedGoals).
+        rig.wait(lambda: _has_robot_pose(rig.node), "the fake robot pose in bt_navigator's TF buffer")
         yield rig
     finally:
         stop_rig(rig)
+
+
+def _has_robot_pose(node: BtNavigator) -> bool:
+    try:
+        node.robot.frames.robot_pose(node.robot.global_frame)
+    except FrameError:
+        return False
+    return True
 
 
 def test_navigate_to_pose_plans_follows_and_succeeds_with_feedback_and_bt_log(rig):
