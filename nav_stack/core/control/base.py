@@ -153,6 +153,21 @@ class PolygonFootprint:
             samples.append(a + np.arange(n)[:, None] / n * (b - a))
         return np.vstack(samples)
 
+    def inset(self, margin: float) -> PolygonFootprint:
+        """The polygon with every edge moved ``margin`` (m) inward; convex polygons, either winding.
+
+        Each corner moves along the bisector of its edges' inward normals n1, n2 by
+        margin·(n1 + n2)/(1 + n1·n2), which puts it ``margin`` from both edges.
+        """
+        corners = np.asarray(self.points, dtype=np.float64)
+        edges = np.roll(corners, -1, axis=0) - corners
+        twice_area = float(np.sum(corners[:, 0] * edges[:, 1] - corners[:, 1] * edges[:, 0]))  # > 0: CCW
+        normals = np.stack([-edges[:, 1], edges[:, 0]], axis=1) * math.copysign(1.0, twice_area)
+        normals /= np.hypot(normals[:, 0], normals[:, 1])[:, None]
+        before, after = np.roll(normals, 1, axis=0), normals  # the edges ending and starting at each corner
+        shift = margin * (before + after) / (1.0 + np.sum(before * after, axis=1))[:, None]
+        return PolygonFootprint(tuple((float(a), float(b)) for a, b in corners + shift), self.sample_spacing)
+
     def cost(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> IntArray:
         o = self.outline()
         c, s = np.cos(yaw)[..., None], np.sin(yaw)[..., None]
@@ -162,6 +177,10 @@ class PolygonFootprint:
 
     def collides(self, cost: IntArray) -> BoolArray:
         return np.asarray(cost >= LETHAL_OBSTACLE)  # lethal, or unknown / off the grid (255)
+
+
+#: cells: how far a body touching lethal cells is inset, in turn, to find how deep it is in
+BODY_INSETS = (0.0, 0.5, 1.0, 1.5, 2.0)
 
 
 def motion_collides(
@@ -177,8 +196,13 @@ def motion_collides(
     move within it as long as no pose comes closer to a lethal cell than it is now: it can turn,
     slide along the obstacle or back out, never push further in. Lethal and unknown cells always
     collide; polygon footprints check lethal cost only and need no exception. A circle's ``body``
-    outline must stay off lethal cells too, unless it already touches one where the robot stands
-    (then the circle's rules alone decide, so that the robot can still back out). RPP and the
+    outline must stay off lethal cells too. When it already touches one where the robot stands (a
+    side against a pillar), the outline inset by the smallest of ``BODY_INSETS`` cells that clears
+    every lethal cell there must stay clear along the motion: the robot may slide along or back
+    out, but not push the body further in than it is, to within half a cell. (With the circle's
+    rules alone, a turn on the spot keeps the centre's clearance and passed, while the rear corner
+    swung into the centre pillar: the robot wedged there.) Deeper than two cells, only the
+    circle's rules decide. RPP and the
     rotation shim use it; DWB does not: for its 400 trajectories × 35 poses the clearances take
     about 30 ms a cycle, which slowed the SLAM exploration past its time limit.
     """
@@ -187,8 +211,11 @@ def motion_collides(
     body = footprint.body if isinstance(footprint, CircleFootprint) else None
     if body is None:
         return False
-    touches = body.collides(body.cost(grid, x, y, yaw))
-    return bool(touches.any() and not touches[0])
+    for cells in BODY_INSETS:
+        if not body.collides(body.cost(grid, x[:1], y[:1], yaw[:1]))[0]:
+            return bool(body.collides(body.cost(grid, x, y, yaw)).any())
+        body = body.inset(cells * grid.spec.resolution)
+    return False
 
 
 def _footprint_collides(

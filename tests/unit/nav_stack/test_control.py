@@ -330,6 +330,42 @@ def test_a_body_outline_keeps_the_corners_of_a_turn_off_lethal_cells() -> None:
     assert not turn_collides(waffle, 0.35, math.pi), "corners already in the wall: the band rules decide"
 
 
+def test_an_inset_moves_every_edge_inward_whatever_the_winding() -> None:
+    inner = ((-0.172, -0.108), (0.044, -0.108), (0.044, 0.108), (-0.172, 0.108))
+    box = PolygonFootprint(WAFFLE_BOX)
+    assert np.allclose(box.inset(0.025).points, inner)
+    assert np.allclose(PolygonFootprint(WAFFLE_BOX[::-1]).inset(0.025).points, inner[::-1])
+
+
+def test_a_body_already_against_a_wall_may_slide_along_or_back_out_but_not_turn_a_corner_in() -> None:
+    """The wedge at the centre pillar: centre 0.12 m from a wall (inside the 0.22 m band), heading
+    along it, the right side 1.3 cm into the wall's lethal cells. A left turn on the spot keeps the
+    centre's clearance, so the circle's rules allow it, but it swings the rear corner (0.197 m behind
+    the axle) into the wall, and so does steering left while driving on; driving or backing along
+    the wall keeps the side where it is."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.5, 0.7, -1.0, 1.0)  # lethal cells from x = 0.5
+    x0, heading = 0.38, math.pi / 2.0  # the right side at x = 0.513
+    waffle = CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
+    steps = np.linspace(0.0, 1.0, 21)
+
+    def collides(vx: float, wz: float, fp: CircleFootprint = waffle) -> bool:
+        yaw = heading + wz * steps
+        if abs(wz) > 1e-9:
+            x = x0 + vx / wz * (np.sin(yaw) - math.sin(heading))
+            y = -vx / wz * (np.cos(yaw) - math.cos(heading))
+        else:
+            x, y = x0 + vx * steps * math.cos(heading), vx * steps * math.sin(heading)
+        return motion_collides(fp, grid, x, y, yaw)
+
+    assert grid.cost_at(x0, 0.0) == INSCRIBED_INFLATED_OBSTACLE
+    assert not collides(0.0, 0.5, CircleFootprint(0.22)), "the circle alone lets it turn"
+    assert collides(0.0, 0.5), "the rear corner swings into the wall"
+    assert collides(0.25, 0.97), "the wedge seen in CI: the rear corner swings in while driving on"
+    assert not collides(0.2, 0.0), "sliding along the wall"
+    assert not collides(-0.2, 0.0), "backing along the wall"
+
+
 def test_rpp_facing_into_a_wall_turns_on_the_spot_then_leaves_the_band_without_closing_in() -> None:
     """In the inscribed band beside a wall (lethal from y = 0.22), heading 0.4 rad toward it, with
     the path leaving the band at 20°: every arc to a carrot first bends toward the wall, so RPP turns
