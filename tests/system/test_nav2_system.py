@@ -175,14 +175,14 @@ def test_goal_inside_a_pillar_aborts_with_goal_occupied(client):
 
 
 def test_param_set_caps_the_speed_of_the_next_goal(client):
-    """``ros2py param set /controller_server FollowPath.max_vel_x 0.1`` (DWB): the next drive stays
+    """``ros2py param set /controller_server FollowPath.desired_linear_vel 0.1`` (RPP): the next drive stays
     under 0.1 m/s (ground truth), where the default drives at 0.26 m/s."""
-    _param_set("/controller_server", "FollowPath.max_vel_x", "0.1")
+    _param_set("/controller_server", "FollowPath.desired_linear_vel", "0.1")
     try:
         start = len(client.truth)
         response = client.result(client.send(nav_goal(-0.55, -0.55)))  # between four pillars
         speeds = [abs(o.twist.twist.linear.x) for o in client.truth[start:]]
     finally:
-        _param_set("/controller_server", "FollowPath.max_vel_x", "0.26")
+        _param_set("/controller_server", "FollowPath.desired_linear_vel", "0.26")
     assert response.status == GoalStatus.STATUS_SUCCEEDED, response.result.error_msg
     assert 0.08 < max(speeds) <= 0.11, max(speeds)

@@ -111,7 +111,7 @@ def _report(stack: Stack, goal: tuple[float, float, float], label: str) -> tuple
 
 def test_rpp_follows_a_planned_path_to_the_goal(stack: Stack) -> None:
     path = stack.plan(2.0, 0.0)
-    handle = send_goal(stack.follow, FollowPath.Goal(path=path, controller_id="RPP",
+    handle = send_goal(stack.follow, FollowPath.Goal(path=path, controller_id="FollowPath",
                                                      goal_checker_id="general_goal_checker"))
     status, result = get_result(handle, 120.0)
     assert status == GoalStatus.STATUS_SUCCEEDED, (result.error_code, result.error_msg, stack.world.pose())
@@ -123,13 +123,13 @@ def test_rpp_follows_a_planned_path_to_the_goal(stack: Stack) -> None:
 
 
 def test_dwb_takes_a_new_path_without_stopping(stack: Stack) -> None:
-    first = send_goal(stack.follow, FollowPath.Goal(path=stack.plan(2.0, 0.0), controller_id="FollowPath"))
+    first = send_goal(stack.follow, FollowPath.Goal(path=stack.plan(2.0, 0.0), controller_id="DWB"))
     local_plans: list[Path] = []
     stack.probe.create_subscription(Path, "/local_plan", local_plans.append, 10)
     wait_until(stack.moving, 30.0, "the robot to drive")
     new_path = stack.plan(0.0, 2.0, math.pi / 2)
     seen = len(stack.cmds)
-    second = send_goal(stack.follow, FollowPath.Goal(path=new_path, controller_id="FollowPath"))
+    second = send_goal(stack.follow, FollowPath.Goal(path=new_path, controller_id="DWB"))
     status, result = get_result(first, 10.0)
     assert (status, result.error_code) == (GoalStatus.STATUS_ABORTED, Codes.NONE)
     assert "preempted" in result.error_msg
