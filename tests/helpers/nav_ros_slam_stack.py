@@ -93,9 +93,18 @@ class Stack:
 
 
 def explore(map_file: Path, max_time: float, timeout: float) -> subprocess.CompletedProcess[str]:
-    """Run ``nav-explore -f map_file`` to the end (its own process, the test's ROS environment)."""
-    return subprocess.run(_py("nav_stack.ros.explore", "-f", str(map_file), "--max-time", str(max_time)),
-                          cwd=REPO, capture_output=True, text=True, timeout=timeout)
+    """Run ``nav-explore -f map_file`` to the end (its own process, the test's ROS environment).
+
+    After ``timeout`` wall s it is killed and returns code -9 with what it printed so far, so that a
+    stuck run fails with the explorer's goals in the message rather than at the test's time limit.
+    """
+    command = _py("nav_stack.ros.explore", "-f", str(map_file), "--max-time", str(max_time))
+    try:
+        return subprocess.run(command, cwd=REPO, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired as expired:
+        stdout, stderr = (out.decode(errors="replace") if isinstance(out, bytes) else out or ""
+                          for out in (expired.stdout, expired.stderr))
+        return subprocess.CompletedProcess(command, -9, stdout, f"{stderr}\nkilled after {timeout:.0f} s")
 
 
 def progress_numbers(stdout: str) -> dict[str, float]:
