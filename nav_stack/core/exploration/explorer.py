@@ -81,10 +81,14 @@ class Explorer:
         """The robot arrived at ``goal``; offering it again would loop, so a repeat gets blacklisted."""
         self._reached.append((goal.x, goal.y))
 
-    def score(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D) -> tuple[list[ScoredFrontier], int]:
-        """All frontiers with a reachable, non-blacklisted goal, cheapest first, and the frontier count."""
+    def score(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D,
+              start: tuple[int, int] | None = None) -> tuple[list[ScoredFrontier], int]:
+        """All frontiers with a reachable, non-blacklisted goal, cheapest first, and the frontier count.
+
+        ``start``: the robot's :meth:`start_cell` when the caller has it already.
+        """
         p = self.params
-        start = self.start_cell(occupancy, spec, pose)
+        start = start or self.start_cell(occupancy, spec, pose)
         if start is None:
             return [], 0  # nothing mapped free around the robot: no frontier can be joined to it
         mx, my = start
@@ -187,10 +191,11 @@ class Explorer:
     def next_goal(self, occupancy: Occupancy, spec: GridSpec, pose: Pose2D) -> ExplorationResult:
         """The next exploration goal for a robot at ``pose`` (map frame), COMPLETE, or NO_FREE_SPACE
         while the map has not grown around the robot (so far nothing can be called complete)."""
-        if self.start_cell(occupancy, spec, pose) is None:
+        start = self.start_cell(occupancy, spec, pose)
+        if start is None:
             return ExplorationResult(ExplorationStatus.NO_FREE_SPACE, None)
         while True:
-            scored, count = self.score(occupancy, spec, pose)
+            scored, count = self.score(occupancy, spec, pose, start)
             if not scored:
                 return ExplorationResult(ExplorationStatus.COMPLETE, None, [], count)
             best = scored[0]
