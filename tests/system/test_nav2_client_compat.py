@@ -36,6 +36,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros import REPO
 
@@ -66,6 +67,7 @@ class MiniNavigator:
         node.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self.amcl_poses.append,
                                  AMCL_POSE_QOS)
         self.handle: Any = None
+        self.tf = TransformListener(node)
 
     def call(self, srv_type: Any, name: str, request: Any, timeout: float = 30.0) -> Any:
         client = self.node.create_client(srv_type, name)
@@ -89,6 +91,10 @@ class MiniNavigator:
             self.set_initial_pose(-2.0, -0.5)
             time.sleep(1.0)
         self._wait_active("bt_navigator")
+        # Not in BasicNavigator: AMCL's map -> odom reaches each process a while after /amcl_pose (up
+        # to a second under a loaded full-suite run), and until then the planner answers 207 (its
+        # costmap has no robot pose) and the controller 102. Seeing it here means it is on the way.
+        self.tf.wait_for("map", "base_link", timeout=30.0)
 
     def set_initial_pose(self, x: float, y: float) -> None:
         msg = PoseWithCovarianceStamped()

@@ -47,6 +47,7 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import pose_stamped
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_bringup import slam_processes
+from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_slam_stack import (
     PARAMS_FILE,
     Stack,
@@ -164,6 +165,14 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
             wait_until(lambda: bool(probe.amcl_poses) or not stack.alive(), 60.0, "/amcl_pose")
             wait_until(lambda: probe.navigate.server_is_ready() or not stack.alive(), 60.0,
                        "navigate_to_pose")
+            # AMCL's map -> odom reaches each process a while after /amcl_pose (up to a second in a
+            # loaded full-suite run); a goal sent before the controller has it fails with TF_ERROR.
+            # A fresh listener: phase 1's transforms, at later sim times, are in no buffer of it.
+            tf = TransformListener(probe.node)
+            try:
+                tf.wait_for("map", "base_link", timeout=30.0)
+            finally:
+                tf.destroy()
             goal = NavigateToPose.Goal()
             goal.pose = pose_stamped(*GOAL, "map", probe.node.get_clock().now().to_msg())
             sent = probe.navigate.send_goal_async(goal)
