@@ -80,13 +80,18 @@ def cost_at(grid: OccupancyGrid | Costmap, x: float, y: float) -> int:
 
 
 def latest(probe: Node, msg_type: Any, topic: str) -> Any:
-    received: list[Any] = []
-    sub = probe.create_subscription(msg_type, topic, received.append, LATCHED)
-    try:
-        wait_until(lambda: bool(received), 20.0, f"a message on {topic}")
-    finally:
-        probe.destroy_subscription(sub)
-    return received[-1]
+    """The newest message on ``topic`` (waits for the first one).
+
+    One subscription per topic and probe, kept for the whole test: the polling loops below call this
+    many times, and a new subscription per call had to be discovered again each time, which in
+    loaded full-suite runs took over 20 s.
+    """
+    newest: dict[str, Any] = probe.__dict__.setdefault("newest_messages", {})
+    if topic not in newest:
+        newest[topic] = None
+        probe.create_subscription(msg_type, topic, lambda msg: newest.__setitem__(topic, msg), LATCHED)
+    wait_until(lambda: newest[topic] is not None, 30.0, f"a message on {topic}")
+    return newest[topic]
 
 
 def test_topics_types_and_qos(costmaps: Any) -> None:
