@@ -74,13 +74,13 @@ class TransformListener:
                  callback_group: CallbackGroup | None = None):
         self.node = node
         self.buffer = buffer or TransformBuffer()
+        self._last_stamp = -1.0  # set before subscribing: a callback may run before __init__ returns
+        self._users = 1
         self._subs = [
             node.create_subscription(TFMessage, "/tf", self._on_tf, TF_QOS, callback_group=callback_group),
             node.create_subscription(TFMessage, "/tf_static", self._on_tf_static, TF_STATIC_SUB_QOS,
                                      callback_group=callback_group),
         ]
-        self._last_stamp = -1.0
-        self._users = 1
 
     @classmethod
     def shared(cls, node: Node) -> TransformListener:
