@@ -32,6 +32,7 @@ from nav_msgs.msg import OccupancyGrid
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.qos import QoSProfile
+from rclpy.timer import Timer
 from sensor_msgs.msg import LaserScan as LaserScanMsg
 
 from nav_stack.core.costmap import (
@@ -51,6 +52,7 @@ from ros_tools.tf import TransformError
 from ros_tools.tf.ros import stamp_to_seconds
 
 SCAN_WAIT_SLACK = 1.0  # s a scan may wait for TF beyond transform_tolerance
+FIRST_UPDATE_RETRY = 0.1  # s between attempts at the first update, when update_frequency is slower
 
 
 def run_transition(node: LifecycleNode, transition: str) -> None:
@@ -113,6 +115,22 @@ class CostmapROS(NavLifecycleNode):
             self.create_timer(1.0 / p.update_frequency, self._update, callback_group=self._group),
             self.create_timer(1.0 / p.publish_frequency, self._publish, callback_group=self._group),
         ]
+        if p.update_frequency < 1.0 / FIRST_UPDATE_RETRY:
+            warmup = self.create_timer(FIRST_UPDATE_RETRY, lambda: self._update_until_ready(warmup),
+                                       callback_group=self._group)
+            self._layer_timers.append(warmup)
+
+    def _update_until_ready(self, timer: Timer) -> None:
+        """Retry the first update every FIRST_UPDATE_RETRY s until it succeeds, then stop.
+
+        Why: the global costmap updates at 1 Hz, and its first update needs both the map and the robot
+        pose (AMCL's map -> odom). A plan requested right after localization then waited up to a
+        second more for it, beyond the planner's costmap_update_timeout (1 s) under load: TIMEOUT.
+        """
+        if not self._updated.is_set():
+            self._update()
+        if self._updated.is_set():
+            timer.cancel()
 
     def deactivate(self) -> None:
         for timer in self._layer_timers:
