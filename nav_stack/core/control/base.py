@@ -208,13 +208,13 @@ def motion_collides(
     """
     if _footprint_collides(footprint, grid, x, y, yaw):
         return True
-    body = footprint.body if isinstance(footprint, CircleFootprint) else None
-    if body is None:
+    outline = footprint.body if isinstance(footprint, CircleFootprint) else None
+    if outline is None:
         return False
     for cells in BODY_INSETS:
+        body = outline.inset(cells * grid.spec.resolution) if cells else outline
         if not body.collides(body.cost(grid, x[:1], y[:1], yaw[:1]))[0]:
             return bool(body.collides(body.cost(grid, x, y, yaw)).any())
-        body = body.inset(cells * grid.spec.resolution)
     return False
 
 

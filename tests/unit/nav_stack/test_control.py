@@ -314,7 +314,7 @@ WAFFLE_BOX = ((-0.197, -0.133), (0.069, -0.133), (0.069, 0.133), (-0.197, 0.133)
 def test_a_body_outline_keeps_the_corners_of_a_turn_off_lethal_cells() -> None:
     """Centre 0.23 m from a wall (outside the 0.22 m band): the circle alone lets the robot turn
     on the spot, but the waffle's rear corners (0.238 m from the axle) would swing into the wall;
-    once the body already touches, the circle's rules decide again so the robot can still leave."""
+    once the body already touches, it may not go deeper (the next test)."""
     spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
     grid = with_obstacle(spec, 0.5, 0.7, -1.0, 1.0)  # lethal cells from x = 0.5
     yaw = np.linspace(0.0, 2.0 * math.pi, 37)
@@ -327,7 +327,7 @@ def test_a_body_outline_keeps_the_corners_of_a_turn_off_lethal_cells() -> None:
     assert not turn_collides(circle, 0.27, 0.0)
     assert turn_collides(waffle, 0.27, 0.0), "a rear corner reaches x = 0.508 m"
     assert not turn_collides(waffle, 0.20, 0.0), "0.30 m from the wall the corners clear it"
-    assert not turn_collides(waffle, 0.35, math.pi), "corners already in the wall: the band rules decide"
+    assert turn_collides(waffle, 0.35, math.pi), "rear corners already 4.7 cm in may not swing in deeper"
 
 
 def test_an_inset_moves_every_edge_inward_whatever_the_winding() -> None:
@@ -364,6 +364,11 @@ def test_a_body_already_against_a_wall_may_slide_along_or_back_out_but_not_turn_
     assert collides(0.25, 0.97), "the wedge seen in CI: the rear corner swings in while driving on"
     assert not collides(0.2, 0.0), "sliding along the wall"
     assert not collides(-0.2, 0.0), "backing along the wall"
+
+    # 3 cm in, the box inset by one cell clears the wall: a 0.2 rad turn takes the rear corner 3.9 cm
+    # further in, beyond that inset, so it collides (insetting by 1.5 cells would let it pass).
+    x0 = 0.5 + 0.03 - 0.133
+    assert collides(0.0, 0.2)
 
 
 def test_rpp_facing_into_a_wall_turns_on_the_spot_then_leaves_the_band_without_closing_in() -> None:
