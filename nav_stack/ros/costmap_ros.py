@@ -81,6 +81,7 @@ class CostmapROS(NavLifecycleNode):
         self._updated = threading.Event()
         self._entities: list[object] = []
         self._layer_timers: list[object] = []
+        self._warmup_timer: Timer | None = None
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -116,11 +117,11 @@ class CostmapROS(NavLifecycleNode):
             self.create_timer(1.0 / p.publish_frequency, self._publish, callback_group=self._group),
         ]
         if p.update_frequency < 1.0 / FIRST_UPDATE_RETRY:
-            warmup = self.create_timer(FIRST_UPDATE_RETRY, lambda: self._update_until_ready(warmup),
-                                       callback_group=self._group)
-            self._layer_timers.append(warmup)
+            self._warmup_timer = self.create_timer(FIRST_UPDATE_RETRY, self._update_until_ready,
+                                                   callback_group=self._group)
+            self._layer_timers.append(self._warmup_timer)
 
-    def _update_until_ready(self, timer: Timer) -> None:
+    def _update_until_ready(self) -> None:
         """Retry the first update every FIRST_UPDATE_RETRY s until it succeeds, then stop.
 
         Why: the global costmap updates at 1 Hz, and its first update needs both the map and the robot
@@ -129,13 +130,14 @@ class CostmapROS(NavLifecycleNode):
         """
         if not self._updated.is_set():
             self._update()
-        if self._updated.is_set():
-            timer.cancel()
+        if self._updated.is_set() and self._warmup_timer is not None:  # None: first tick before assignment
+            self._warmup_timer.cancel()
 
     def deactivate(self) -> None:
         for timer in self._layer_timers:
             self.destroy_timer(timer)  # type: ignore[arg-type]
         self._layer_timers = []
+        self._warmup_timer = None
 
     def cleanup(self) -> None:
         self.deactivate()

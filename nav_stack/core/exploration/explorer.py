@@ -88,7 +88,8 @@ class Explorer:
         ``start``: the robot's :meth:`start_cell` when the caller has it already.
         """
         p = self.params
-        start = start or self.start_cell(occupancy, spec, pose)
+        if start is None:
+            start = self.start_cell(occupancy, spec, pose)
         if start is None:
             return [], 0  # nothing mapped free around the robot: no frontier can be joined to it
         mx, my = start
