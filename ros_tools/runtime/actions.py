@@ -1,0 +1,59 @@
+"""rclpy's ActionServer, with execute callbacks that run as :func:`.coroutines.spawn` coroutines.
+
+Why: rclpy awaits an ``async def`` execute callback inside an executor task. A goal lasts seconds
+to minutes, and while it awaits its outcome that task is re-run on every executor turn (the
+EventsExecutor re-posts it at once: a busy core per running goal). This server starts the execute
+callback with :func:`.coroutines.spawn` instead, which resumes it only when the future it awaits
+completes, then finishes the goal exactly as rclpy does: a goal left active is aborted, and the
+result goes to every client waiting for it.
+
+A plain (non-async) execute callback works as in rclpy.
+"""
+
+from __future__ import annotations
+
+import inspect
+from typing import Any
+
+from rclpy.action import ActionServer as RclpyActionServer
+from rclpy.task import Future
+
+from ros_tools.runtime.coroutines import spawn
+
+
+class ActionServer(RclpyActionServer):
+    """Same constructor and behaviour as ``rclpy.action.ActionServer``; see the module docstring."""
+
+    async def _execute_goal(self, execute_callback: Any, goal_handle: Any) -> None:
+        try:
+            outcome = execute_callback(goal_handle)
+        except Exception:
+            self._logger.error(f"execute callback raised: {_traceback()}")
+            outcome = self._action_type.Result()
+        if inspect.iscoroutine(outcome):
+            outcome = spawn(self._node, outcome)
+        if isinstance(outcome, Future):
+            outcome.add_done_callback(lambda done: self._finish(goal_handle, done))
+        else:
+            self._conclude(goal_handle, outcome)
+
+    def _finish(self, goal_handle: Any, done: Future) -> None:
+        result = done.result() if done.exception() is None else self._action_type.Result()
+        self._conclude(goal_handle, result)
+
+    def _conclude(self, goal_handle: Any, result: Any) -> None:
+        """rclpy's end of a goal: abort one left active, then answer every result request."""
+        if goal_handle.is_active:
+            goal_id = bytes(goal_handle.goal_id.uuid).hex()
+            self._logger.warning(f"goal state not set, assuming aborted: {goal_id}")
+            goal_handle.abort()
+        response = self._action_type.Impl.GetResultService.Response()
+        response.status = goal_handle.status
+        response.result = result
+        self._result_futures[bytes(goal_handle.goal_id.uuid)].set_result(response)
+
+
+def _traceback() -> str:
+    import traceback
+
+    return traceback.format_exc()

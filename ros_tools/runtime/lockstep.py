@@ -1,0 +1,118 @@
+"""The participant side of lockstep simulation: report the sim time this process has fully processed.
+
+Why: a simulator that runs by the wall clock outruns a loaded stack. The controller then acts on
+late poses and the outcome of a mission depends on how busy the machine is. In lockstep the
+simulator (sim2d with ``lockstep: true``) never steps more than ``lockstep.max_lead`` s of sim time
+(one control period) beyond the slowest participant's report, so the stack sees the same world
+at the same sim times however slow the machine is, and the sim runs as fast as the stack keeps up.
+
+Protocol, on topic ``/lockstep/progress`` (std_msgs/Header, reliable, depth 10):
+
+* ``frame_id`` names the participant (``<role>:<pid>``, e.g. ``nav2:4242``); the role is what
+  warnings and the simulator's ``lockstep.participants`` list use;
+* ``stamp`` is the newest /clock time whose message this process has taken off its executor's
+  queue. The executor runs callbacks in arrival order, so every scan, odometry and TF message
+  that arrived before that /clock has been processed, and the timers due by then have fired;
+* a zero ``stamp`` says the participant leaves (the runner sends it at teardown) and no longer
+  holds the simulator back.
+
+A participant reports at most every ``report_period`` s of sim time (default 0.02 s, under the
+simulator's 0.05 s lead, so the simulator never waits for a report that is not coming), and on
+every repeated /clock (the simulator re-sends its time while it waits, once per wall 0.1 s). While
+:meth:`LockstepParticipant.hold` is in effect (e.g. until the lifecycle managers report active) it
+reports nothing, and a simulator told to expect its role stays paused.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any
+
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Header
+
+PROGRESS_TOPIC = "/lockstep/progress"
+CLOCK_TOPIC = "/clock"
+PROGRESS_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+REPORT_PERIOD = 0.02  # s of sim time between reports
+
+
+def participant_name(role: str) -> str:
+    """``<role>:<pid>``: unique per process, and the role still reads well in a warning."""
+    return f"{role}:{os.getpid()}"
+
+
+def role_of(name: str) -> str:
+    """The role part of a participant name (``nav2:4242`` -> ``nav2``)."""
+    return name.rsplit(":", 1)[0]
+
+
+class LockstepParticipant:
+    """Reports this process's progress in sim time on PROGRESS_TOPIC (see the module docstring).
+
+    Args:
+        node: any node of the process (the participant adds one subscription and one publisher).
+        role: what the process is (``nav2``, ``localization``, ``SmNav2Test1``).
+        ready: while it returns False, nothing is reported (checked on every /clock message).
+        report_period: s of sim time between reports.
+    """
+
+    def __init__(self, node: Node, role: str, ready: Callable[[], bool] | None = None,
+                 report_period: float = REPORT_PERIOD) -> None:
+        self.node = node
+        self.name = participant_name(role)
+        self._ready = ready
+        self._period_ns = int(report_period * 1e9)
+        self._last_clock_ns = -1
+        self._last_report_ns = -1
+        self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
+        self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
+
+    @property
+    def reported_ns(self) -> int:
+        """The last sim time reported (ns), -1 before the first report."""
+        return self._last_report_ns
+
+    def _on_clock(self, msg: Clock) -> None:
+        now = msg.clock.sec * 1_000_000_000 + msg.clock.nanosec
+        repeated = now <= self._last_clock_ns  # the simulator re-sends its time while it waits
+        self._last_clock_ns = now
+        if self._ready is not None:
+            if not self._ready():
+                return
+            self._ready = None  # ready once, ready for good
+        if repeated or now >= self._last_report_ns + self._period_ns:
+            self._report(now)
+
+    def _report(self, now_ns: int) -> None:
+        # A zero stamp means "leaving", but the simulator starts at sim time 0 (and holds there while
+        # it waits for its expected roles): report 0 as 1 ns so a participant joins instead of leaving.
+        now_ns = max(now_ns, 1)
+        header = Header(frame_id=self.name)
+        header.stamp.sec, header.stamp.nanosec = divmod(now_ns, 1_000_000_000)
+        self._pub.publish(header)
+        self._last_report_ns = now_ns
+
+    def leave(self) -> None:
+        """Tell the simulator not to wait for this process any more (a zero stamp).
+
+        After Ctrl-C the context is already shut down and nothing can be sent: the simulator then
+        drops this participant after its ``lockstep.timeout``.
+        """
+        if self.node.context.ok():
+            self._pub.publish(Header(frame_id=self.name))
+
+    def destroy(self) -> None:
+        """Leave, then destroy the subscription and the publisher."""
+        self.leave()
+        self.node.destroy_subscription(self._sub)
+        self.node.destroy_publisher(self._pub)
+
+
+def uses_sim_time(node: Any) -> bool:
+    """True when ``node`` has ``use_sim_time`` set (only such processes take part in lockstep)."""
+    return bool(node.has_parameter("use_sim_time") and node.get_parameter("use_sim_time").value)
