@@ -1,5 +1,9 @@
 """Command line: ``sim2d --world turtlebot3_world --robot waffle --rtf 5 --x -2.0 --y -0.5 --yaw 0``.
 
+``--lockstep`` makes the simulator wait for the stack (never more than ``lockstep.max_lead`` of sim
+time ahead of the slowest participant); ``--lockstep-participants nav2,localization`` also holds
+the first step until those roles have reported. ``--rtf`` still caps the speed on top of that.
+
 Parameters come from config/sim2d.yaml (Nav2 layout ``sim2d: ros__parameters:``; ``--params-file``
 picks another), then the flags override them; anything after ``--ros-args`` goes to rclpy (remaps,
 ``-p name:=value``). The whole configuration, including the world file, is validated before ROS
@@ -12,16 +16,20 @@ from __future__ import annotations
 import argparse
 import itertools
 import os
+import signal
 import sys
+from dataclasses import dataclass
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import yaml
 
+from ros_tools.runtime.executor import add_executor_argument, executor_kind
 from sim2d.ros.config import ParamValue, build_config, coerce, defaults, load_params_file
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
 EXIT_USAGE = 2
+SPIN_TIMEOUT = 0.1   # wall s a spin_once waits for work before checking for shutdown
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,8 +49,30 @@ def _rtf(text: str) -> float:
     return value
 
 
+def _roles(text: str) -> tuple[str, ...]:
+    roles = tuple(role.strip() for role in text.split(",") if role.strip())
+    if not roles:
+        raise argparse.ArgumentTypeError(f"expected comma-separated roles (nav2,localization), got {text!r}")
+    return roles
+
+
+@dataclass(frozen=True)
+class CommandLine:
+    """A parsed command line: parameter values, rclpy's arguments and the executor kind (None: default)."""
+
+    values: dict[str, ParamValue]
+    ros_args: list[str]
+    executor: str | None
+
+
 def parse(argv: list[str]) -> tuple[dict[str, ParamValue], list[str]]:
     """Parameter values (file, then flags) and the rclpy arguments of a command line."""
+    command = parse_command_line(argv)
+    return command.values, command.ros_args
+
+
+def parse_command_line(argv: list[str]) -> CommandLine:
+    """Everything ``main`` needs from a command line; ValueError on a bad parameter file or value."""
     ros_args: list[str] = []
     if "--ros-args" in argv:
         split = argv.index("--ros-args")
@@ -58,6 +88,11 @@ def parse(argv: list[str]) -> tuple[dict[str, ParamValue], list[str]]:
     parser.add_argument("--stamped", action="store_true", default=None, help="cmd_vel is TwistStamped")
     parser.add_argument("--params-file", type=Path, default=None,
                         help=f"Nav2-style parameter file (default {DEFAULT_PARAMS} if present)")
+    parser.add_argument("--lockstep", action="store_true", default=None,
+                        help="never run ahead of the stack: wait for the lockstep participants' reports")
+    parser.add_argument("--lockstep-participants", type=_roles, metavar="ROLE,ROLE",
+                        help="roles that must report before the first step (implies --lockstep)")
+    add_executor_argument(parser)
     args = parser.parse_args(argv)
     params_file = args.params_file or (DEFAULT_PARAMS if DEFAULT_PARAMS.is_file() else None)
     values = load_params_file(params_file) if params_file else {}
@@ -67,10 +102,11 @@ def parse(argv: list[str]) -> tuple[dict[str, ParamValue], list[str]]:
     values.update(_ros_args_values(ros_args))
     flags = {"world": args.world, "robot": args.robot, "real_time_factor": args.rtf, "seed": args.seed,
              "initial_pose.x": args.x, "initial_pose.y": args.y, "initial_pose.yaw": args.yaw,
-             "enable_stamped_cmd_vel": args.stamped}
+             "enable_stamped_cmd_vel": args.stamped, "lockstep.participants": args.lockstep_participants,
+             "lockstep.enabled": True if args.lockstep or args.lockstep_participants else None}
     values.update({name: coerce(name, value, "command line") for name, value in flags.items()
                    if value is not None})
-    return values, ros_args
+    return CommandLine(values, ros_args, args.executor)
 
 
 def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:
@@ -91,38 +127,70 @@ def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:
 def main(argv: list[str] | None = None) -> int:
     """Run the simulator until interrupted; 2 on a configuration error."""
     try:
-        values, ros_args = parse(sys.argv[1:] if argv is None else argv)
+        command = parse_command_line(sys.argv[1:] if argv is None else argv)
+        executor_kind(command.executor)                  # a bad $NAVSUITE_EXECUTOR fails here too
         from sim2d.core.world import load_world
 
-        load_world(build_config(values).node.world)      # fail before ROS starts
+        load_world(build_config(command.values).node.world)      # fail before ROS starts
     except ValueError as exc:
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     import rclpy
-    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+    from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter
 
+    from ros_tools.runtime.executor import make_executor
     from sim2d.ros.sim_node import Sim2dNode
 
-    rclpy.init(args=["sim2d", *ros_args])
-    node = None
+    # The simulator is the clock, not a lockstep participant: it runs no LockstepParticipant.
+    rclpy.init(args=["sim2d", *command.ros_args])
+    node: Any = None
+    executor: Any = None
     try:
-        node = Sim2dNode(parameter_overrides=[Parameter(name, value=value) for name, value in values.items()])
-        executor = SingleThreadedExecutor()
+        node = Sim2dNode(parameter_overrides=[Parameter(name, value=value)
+                                              for name, value in command.values.items()])
+        executor = make_executor(command.executor)
         executor.add_node(node)
-        executor.spin()
+        spin_until_shutdown(executor)
     except ValueError as exc:   # e.g. a bad '-p name:=value' after --ros-args
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        if executor is not None:
+            executor.shutdown()
         if node is not None:
             node.destroy_node()
-        if rclpy.ok():
-            rclpy.shutdown()
+        rclpy.try_shutdown()
     return 0
+
+
+def spin_until_shutdown(executor: Any) -> None:
+    """Serve callbacks until Ctrl-C, SIGTERM or a shutdown of the context.
+
+    Why a loop of ``spin_once``: in the Jazzy rclpy wheel (7.1.6) ``EventsExecutor.spin()`` never
+    runs a timer or a subscription and ignores Ctrl-C; ``spin_once`` works with either executor.
+
+    Why not ros_tools' ``run_nodes``, and why our own signal handlers: at max speed the process is
+    nearly always inside the stepping callback, so rclpy's and the EventsExecutor's handlers end it
+    mid-burst (a KeyboardInterrupt or a publish on a dead context, each logged by the EventsExecutor
+    as a FATAL callback error with a traceback). Here a signal only sets a flag, and the loop stops
+    between callbacks.
+    """
+    stop: list[int] = []
+
+    def request_stop(signum: int, frame: object) -> None:
+        stop.append(signum)
+
+    previous = {signum: signal.signal(signum, request_stop) for signum in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        while executor.context.ok() and not stop:
+            executor.spin_once(timeout_sec=SPIN_TIMEOUT)
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 if __name__ == "__main__":

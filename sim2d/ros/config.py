@@ -11,6 +11,7 @@ Layout (Nav2 style, config/sim2d.yaml)::
         world: turtlebot3_world      # NodeParams and SimParams fields at the top level
         initial_pose: {x: -2.0, y: -0.5, yaw: 0.0}
         lidar: {beams: 360, ...}     # LidarParams, OdometryParams, BatteryParams, CollisionParams
+        lockstep: {enabled: false, participants: [nav2]}   # LockstepParams (string arrays are tuples)
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from sim2d.core.odometry import OdometryParams
 from sim2d.core.simulator import SimParams
 
 NODE_NAME = "sim2d"
-ParamValue = bool | int | float | str
+ParamValue = bool | int | float | str | tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -65,6 +66,34 @@ class NodeParams:
 
 
 @dataclass(frozen=True)
+class LockstepParams:
+    """Lockstep with the stack (see sim2d/core/lockstep.py and ros_tools/runtime/lockstep.py).
+
+    Attributes:
+        enabled: never step more than ``max_lead`` beyond the slowest participant's report.
+        max_lead: s of sim time the sim may run ahead of the slowest participant (one control
+            period of a 20 Hz controller); at least one physics step, or the sim could never step.
+        timeout: wall seconds without a report after which a participant is dropped (one warning).
+        startup_timeout: wall seconds to wait for the ``participants`` roles before the first step.
+        participants: roles (``nav2``, ``localization``...) that must report before the sim steps.
+    """
+
+    enabled: bool = False
+    max_lead: float = 0.05
+    timeout: float = 5.0
+    startup_timeout: float = 60.0
+    participants: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        for name in ("max_lead", "timeout", "startup_timeout"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"lockstep.{name}: must be > 0, got {getattr(self, name)}")
+        for role in self.participants:
+            if not role.strip() or ":" in role:
+                raise ValueError(f"lockstep.participants: a role is a name without ':', got {role!r}")
+
+
+@dataclass(frozen=True)
 class SimConfig:
     """Everything the node needs, validated."""
 
@@ -74,11 +103,17 @@ class SimConfig:
     odometry: OdometryParams
     battery: BatteryParams
     collision: CollisionParams
+    lockstep: LockstepParams
+
+    def __post_init__(self) -> None:
+        if self.lockstep.max_lead < self.sim.physics_step:
+            raise ValueError(f"lockstep.max_lead: must be at least physics_step ({self.sim.physics_step} s), "
+                             f"got {self.lockstep.max_lead}")
 
 
 _ROOTS: tuple[type, ...] = (NodeParams, SimParams)
 _SECTIONS: dict[str, type] = {"lidar": LidarParams, "odometry": OdometryParams, "battery": BatteryParams,
-                              "collision": CollisionParams}
+                              "collision": CollisionParams, "lockstep": LockstepParams}
 
 
 def _default(f: dataclasses.Field[Any]) -> Any:
@@ -92,8 +127,8 @@ def _flatten_defaults(instance: Any, prefix: str, out: dict[str, ParamValue]) ->
         value = getattr(instance, f.name)
         if dataclasses.is_dataclass(value):
             _flatten_defaults(value, f"{prefix}{f.name}.", out)
-        elif isinstance(value, tuple):
-            continue  # not a parameter (none today)
+        elif isinstance(value, tuple) and not all(isinstance(item, str) for item in value):
+            continue  # not a parameter (only string tuples are: ROS string arrays)
         else:
             out[f"{prefix}{f.name}"] = value
 
@@ -115,7 +150,11 @@ def coerce(name: str, value: Any, where: str = "") -> ParamValue:
     if name not in known:
         raise ValueError(f"{prefix}{name}: unknown parameter")
     default = known[name]
-    if isinstance(default, bool):
+    if isinstance(default, tuple):   # a string array; rclpy types an empty default as a byte array
+        ok = isinstance(value, (list, tuple)) and all(isinstance(item, str) for item in value)
+        ok = ok or (not isinstance(value, str) and hasattr(value, "__len__") and len(value) == 0)
+        value = tuple(value) if ok else value
+    elif isinstance(default, bool):
         ok = isinstance(value, bool)
     elif isinstance(default, float):
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)
@@ -125,7 +164,8 @@ def coerce(name: str, value: Any, where: str = "") -> ParamValue:
     else:
         ok = isinstance(value, str)
     if not ok:
-        raise ValueError(f"{prefix}{name}: expected {type(default).__name__}, got {value!r}")
+        expected = "list of str" if isinstance(default, tuple) else type(default).__name__
+        raise ValueError(f"{prefix}{name}: expected {expected}, got {value!r}")
     return value  # type: ignore[no-any-return]
 
 

@@ -5,9 +5,21 @@ with 0, as many as fit in a short wall budget); after each step the node publish
 in sim time: /clock at ``clock_rate``, /odom + /tf + ground_truth at ``odometry.rate``, /scan at
 ``lidar.rate``, /battery_state at ``battery_rate``. Every stamp is sim time; /clock is the source.
 
+Lockstep (``lockstep.enabled``): the participants' reports on /lockstep/progress feed a
+:class:`~sim2d.core.lockstep.LockstepGate`, and no step goes beyond its limit (the slowest report
+plus ``lockstep.max_lead``); the real-time factor still caps the speed on top. When the gate
+blocks, the sim sends /clock at its current time and cancels the stepping timer (no busy wait); a
+progress report that moves the limit steps on at once, in its own callback, and restarts the timer
+only if that burst does not reach the limit again. A 0.1 s wall watchdog re-sends /clock while
+blocked (participants answer a repeated /clock with a report, late joiners learn the time), drops
+the participants silent for ``lockstep.timeout`` with one warning each, and lets the sim go on.
+In max mode (``real_time_factor`` 0) the stepping timer fires every 1 ms and each burst stops
+after 20 ms of wall time, so cmd_vel and progress callbacks get their turn in between.
+
 ROS surface (names relative to the node namespace unless absolute):
   sub  cmd_vel (geometry_msgs/Twist, or TwistStamped with enable_stamped_cmd_vel)
   sub  sim2d/teleport (geometry_msgs/PoseStamped, frame map): move the robot, odometry unaware
+  sub  /lockstep/progress (std_msgs/Header, only with lockstep.enabled)
   pub  /clock, scan (reliable), odom, /tf, /tf_static (transient local), ground_truth (frame map),
        battery_state, sim2d/collisions (PointStamped per new contact),
        sim2d/collision_count (UInt32, transient local), sim2d/real_time_factor (Float64, achieved)
@@ -29,10 +41,12 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 from sensor_msgs.msg import BatteryState, LaserScan
-from std_msgs.msg import Float64, UInt32
+from std_msgs.msg import Float64, Header, UInt32
 from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
 
+from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, REPORT_PERIOD
+from sim2d.core.lockstep import LockstepGate
 from sim2d.core.robot import Pose2D, robot_model
 from sim2d.core.simulator import Simulator
 from sim2d.core.world import load_world
@@ -47,8 +61,10 @@ RTF_TOPIC, TELEPORT_TOPIC = "sim2d/real_time_factor", "sim2d/teleport"
 RESET_SERVICE, PAUSE_SERVICE = "sim2d/reset", "sim2d/pause"
 
 TICK_PERIOD = 0.005        # wall seconds between stepping bursts
-MAX_MODE_BUDGET = 0.02     # wall seconds of stepping per burst in max mode
+MAX_MODE_TICK = 0.001      # wall seconds between bursts in max mode: the executor serves inputs in between
+MAX_MODE_BUDGET = 0.02     # wall seconds of stepping per burst (cmd_vel and progress wait at most this)
 MAX_LAG = 0.25             # sim seconds of backlog dropped rather than caught up in a burst
+WATCHDOG_PERIOD = 0.1      # wall seconds between lockstep checks (timeouts, repeated /clock)
 
 RELIABLE_10 = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
@@ -80,13 +96,15 @@ class Sim2dNode(Node):
         self._periods = {"clock": _period_ns(cfg.node.clock_rate), "odom": _period_ns(cfg.odometry.rate),
                          "scan": _period_ns(cfg.lidar.rate), "battery": _period_ns(cfg.node.battery_rate)}
         self._due = dict.fromkeys(self._periods, 0)
+        self._clock_sent = (-1, time.monotonic())     # (sim ns, wall s) of the newest /clock sent
         self._publish_due()
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._battery_was_empty = False
         self._anchor = (time.monotonic(), self.sim.time_ns)
         self._rtf_window = (time.monotonic(), self.sim.time_ns)
         self._last_log = time.monotonic()
-        self.create_timer(TICK_PERIOD if cfg.node.real_time_factor > 0 else 0.0, self._tick, clock=wall)
+        self._step_timer = self.create_timer(TICK_PERIOD if cfg.node.real_time_factor > 0 else MAX_MODE_TICK,
+                                             self._tick, clock=wall)
         self.create_timer(1.0, self._report_rtf, clock=wall)
         self.create_timer(2.0, self._check_cmd_vel_types, clock=wall)
         rtf = cfg.node.real_time_factor
@@ -94,6 +112,10 @@ class Sim2dNode(Node):
             f"sim2d: world {world.name} ({world.source}), robot {self.robot.name}, spawn "
             f"({cfg.sim.initial_pose.x}, {cfg.sim.initial_pose.y}, {cfg.sim.initial_pose.yaw}), "
             f"real-time factor {'max' if rtf == 0 else rtf}, step {cfg.sim.physics_step} s")
+        self.gate: LockstepGate | None = None
+        self._blocked = False
+        if cfg.lockstep.enabled:
+            self._start_lockstep(wall)
 
     def _make_interfaces(self) -> None:
         cfg = self.config
@@ -121,34 +143,46 @@ class Sim2dNode(Node):
 
     # ------------------------------------------------------------------ stepping
     def _tick(self) -> None:
+        """Step as far as the real-time factor, the lockstep gate and one wall budget allow."""
         if self.paused:
             return
         started = time.monotonic()
-        rtf = self.config.node.real_time_factor
         sim = self.sim
-        if rtf > 0:
-            wall0, sim0 = self._anchor
-            target = sim0 + int((started - wall0) * rtf * 1e9)
-            if target - sim.time_ns > MAX_LAG * 1e9:     # fell behind: drop the debt, report lower RTF
-                target = sim.time_ns + int(MAX_LAG * 1e9)
-                self._anchor = (started, target)
-            while sim.time_ns + sim.step_ns <= target:
-                self._step()
-                if time.monotonic() - started > MAX_MODE_BUDGET:
-                    break
-        else:
-            while time.monotonic() - started < MAX_MODE_BUDGET:
-                for _ in range(10):
-                    self._step()
+        target = self._paced_target(started)
+        limit = self._lockstep_limit(started)
+        if limit is not None:
+            target = limit if target is None else min(target, limit)
+        while target is None or sim.time_ns + sim.step_ns <= target:
+            self._step()
+            if time.monotonic() - started > MAX_MODE_BUDGET:
+                break
+        if limit is not None and sim.time_ns + sim.step_ns > limit:
+            self._block()
+
+    def _paced_target(self, wall_now: float) -> int | None:
+        """The sim time (ns) ``real_time_factor`` asks for at ``wall_now``; None in max mode."""
+        rtf = self.config.node.real_time_factor
+        if rtf <= 0:
+            return None
+        wall0, sim0 = self._anchor
+        target = sim0 + int((wall_now - wall0) * rtf * 1e9)
+        if target - self.sim.time_ns > MAX_LAG * 1e9:     # fell behind: drop the debt, report lower RTF
+            target = self.sim.time_ns + int(MAX_LAG * 1e9)
+            self._anchor = (wall_now, target)
+        return target
 
     def _step(self) -> None:
         self.sim.step()
         self._publish_due()
 
+    def _publish_clock(self, now_ns: int) -> None:
+        self.pub_clock.publish(messages.clock(now_ns))
+        self._clock_sent = (now_ns, time.monotonic())
+
     def _publish_due(self) -> None:
         now, due, sim = self.sim.time_ns, self._due, self.sim
         if now >= due["clock"]:
-            self.pub_clock.publish(messages.clock(now))
+            self._publish_clock(now)
             due["clock"] = self._next_due(due["clock"], self._periods["clock"], now)
         if now >= due["odom"]:
             odom = sim.odometry
@@ -198,6 +232,93 @@ class Sim2dNode(Node):
             self.get_logger().info(f"sim2d: real-time factor {achieved:.1f} (target "
                                    f"{'max' if target == 0 else target}), sim time {self.sim.time:.1f} s")
 
+    # ------------------------------------------------------------------ lockstep
+    def _start_lockstep(self, wall: Clock) -> None:
+        cfg = self.config.lockstep
+        now = time.monotonic()
+        self.gate = LockstepGate(round(cfg.max_lead * 1e9), cfg.timeout, now, cfg.participants,
+                                 cfg.startup_timeout)
+        self.create_subscription(Header, PROGRESS_TOPIC, self._on_progress, PROGRESS_QOS)
+        self.create_timer(WATCHDOG_PERIOD, self._lockstep_watchdog, clock=wall)
+        waits = "waits for no role before stepping"
+        if cfg.participants:
+            waits = (f"waits for {', '.join(cfg.participants)} before the first step "
+                     f"(at most {cfg.startup_timeout} s wall)")
+        self.get_logger().info(
+            f"sim2d: lockstep on: at most {cfg.max_lead} s of sim time ahead of the slowest participant "
+            f"on {PROGRESS_TOPIC}; {waits}; a participant silent for {cfg.timeout} s wall is dropped")
+        if cfg.max_lead < REPORT_PERIOD + 1.0 / self.config.node.clock_rate:
+            self.get_logger().warning(
+                f"sim2d: lockstep.max_lead {cfg.max_lead} s is under one participant report period plus one "
+                f"clock period ({REPORT_PERIOD} + {1.0 / self.config.node.clock_rate} s): the sim will often "
+                f"wait for the {WATCHDOG_PERIOD} s watchdog")
+
+    def _lockstep_limit(self, wall_now: float) -> int | None:
+        """The gate's limit (ns), or None without lockstep; warns once about each dropped participant."""
+        if self.gate is None:
+            return None
+        limit = self.gate.limit_ns(wall_now)
+        cfg = self.config.lockstep
+        for dropped in self.gate.take_dropped():     # named with the configured timeout they exceeded
+            if dropped.name is None:
+                self.get_logger().warning(
+                    f"lockstep: {dropped.role} has not reported within {cfg.startup_timeout} s wall "
+                    "(lockstep.startup_timeout); the simulator goes on without it")
+            else:
+                self.get_logger().warning(
+                    f"lockstep: {dropped.role} ({dropped.name}) has not reported for {cfg.timeout} s wall; "
+                    "the simulator goes on without it")
+        return limit
+
+    def _block(self) -> None:
+        """Stop stepping until a report moves the limit; make sure the participants saw the newest time."""
+        self._blocked = True
+        self._step_timer.cancel()
+        if self._clock_sent[0] < self.sim.time_ns:
+            self._publish_clock(self.sim.time_ns)
+
+    def _unblock_if_free(self, wall_now: float) -> None:
+        """Step on at once if the limit has moved past the next step.
+
+        The stepping timer is reset only when one burst does not reach the limit again: resetting it
+        on every report (thousands per second) keeps the EventsExecutor's timer manager re-arming
+        and starves the other timers (the watchdog, the real-time factor) for seconds.
+        """
+        limit = self._lockstep_limit(wall_now)
+        if limit is not None and self.sim.time_ns + self.sim.step_ns > limit:
+            return
+        self._blocked = False
+        self._anchor = (wall_now, self.sim.time_ns)   # the waiting is not a debt to catch up
+        self._tick()                # now, not a timer period later
+        if not self._blocked:
+            self._step_timer.reset()
+
+    def _on_progress(self, msg: Header) -> None:
+        if self.gate is None:
+            return
+        wall_now = time.monotonic()
+        stamp_ns = msg.stamp.sec * 1_000_000_000 + msg.stamp.nanosec
+        waiting = self.gate.waiting_for
+        if self.gate.report(msg.frame_id, stamp_ns, wall_now):
+            self.get_logger().info(f"lockstep: {msg.frame_id} joined at sim time {self.sim.time:.3f} s")
+        if waiting and not self.gate.waiting_for:
+            self.get_logger().info(f"lockstep: every expected role has joined ({', '.join(sorted(waiting))} "
+                                   "last); the simulator starts stepping")
+        if self._blocked and not self.paused:
+            self._unblock_if_free(wall_now)
+
+    def _lockstep_watchdog(self) -> None:
+        """Timeouts and repeated /clock while blocked (participants answer it with a report)."""
+        if self.paused:
+            return
+        wall_now = time.monotonic()
+        if self._blocked:
+            self._unblock_if_free(wall_now)
+        else:
+            self._lockstep_limit(wall_now)
+        if self._blocked or wall_now - self._clock_sent[1] >= WATCHDOG_PERIOD:
+            self._publish_clock(self.sim.time_ns)
+
     # ------------------------------------------------------------------ inputs
     def _on_cmd_vel(self, msg: Twist | TwistStamped) -> None:
         twist = msg.twist if isinstance(msg, TwistStamped) else msg
@@ -235,8 +356,16 @@ class Sim2dNode(Node):
 
     def _on_pause(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         self.paused = bool(request.data)
+        wall_now = time.monotonic()
+        if self.gate is not None:       # silence while paused counts against nobody
+            if self.paused:
+                self.gate.suspend(wall_now)
+            else:
+                self.gate.resume(wall_now)
         if not self.paused:
-            self._anchor = (time.monotonic(), self.sim.time_ns)   # resume without catching up
+            self._anchor = (wall_now, self.sim.time_ns)   # resume without catching up
+            if self._blocked:
+                self._unblock_if_free(wall_now)
         response.success = True
         response.message = "paused" if self.paused else "running"
         return response

@@ -59,3 +59,32 @@ def test_ros_args_parameters_override_the_config_file_and_flags_override_both():
     assert values["odometry.ideal"] is True  # was silently ignored before: the file's value won
     assert values["real_time_factor"] == 2.0  # the explicit flag wins
     assert "use_sim_time" not in values and "use_sim_time:=false" in ros_args  # left to rclpy
+
+
+def test_lockstep_flags_set_the_lockstep_parameters() -> None:
+    from sim2d.ros.cli import parse_command_line
+
+    assert build_config(parse([])[0]).lockstep.enabled is False
+    assert build_config(parse(["--lockstep"])[0]).lockstep.enabled is True
+    command = parse_command_line(["--lockstep-participants", "nav2, localization", "--executor", "single"])
+    lockstep = build_config(command.values).lockstep
+    assert lockstep.enabled is True and lockstep.participants == ("nav2", "localization")
+    assert command.executor == "single"
+    values, _ = parse(["--ros-args", "-p", "lockstep.participants:=[nav2]", "-p", "lockstep.max_lead:=0.1"])
+    assert build_config(values).lockstep.participants == ("nav2",)
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--lockstep-participants", ","], "argument --lockstep-participants"),
+    (["--executor", "multi"], "argument --executor"),
+    (["--ros-args", "-p", "lockstep.max_lead:=0.001"], "lockstep.max_lead: must be at least physics_step"),
+    (["--ros-args", "-p", "lockstep.timeout:=0"], "lockstep.timeout: must be > 0"),
+    (["--ros-args", "-p", "lockstep.participants:=nav2"], "lockstep.participants: expected list of str"),
+])
+def test_bad_lockstep_input_is_one_line(capsys: pytest.CaptureFixture[str], argv: list[str],
+                                        message: str) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        raise SystemExit(main(argv))
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("sim2d: error: ") and message in err

@@ -1,0 +1,102 @@
+"""LockstepGate: the sim's limit from its participants' reports, leaving, timeouts, expected roles."""
+
+from __future__ import annotations
+
+from sim2d.core.lockstep import HOLD, LEAVE_NS, Dropped, LockstepGate, role_of
+
+MS = 1_000_000        # ns
+LEAD = 50 * MS        # ns: one 20 Hz control period
+
+
+def _gate(expected: tuple[str, ...] = (), wall: float = 100.0) -> LockstepGate:
+    return LockstepGate(LEAD, timeout=5.0, wall_now=wall, expected=expected, startup_timeout=60.0)
+
+
+def test_no_participant_means_no_limit() -> None:
+    gate = _gate()
+    assert gate.limit_ns(100.0) is None
+    assert gate.take_dropped() == []
+
+
+def test_limit_is_the_slowest_report_plus_the_lead() -> None:
+    gate = _gate()
+    assert gate.report("nav2:1", 200 * MS, 100.0) is True          # joins
+    assert gate.report("localization:2", 120 * MS, 100.0) is True
+    assert gate.limit_ns(100.0) == 120 * MS + LEAD
+    assert gate.report("localization:2", 240 * MS, 100.1) is False  # already live
+    assert gate.limit_ns(100.1) == 200 * MS + LEAD
+    gate.report("nav2:1", 150 * MS, 100.2)                         # reordered, older: never moves back
+    assert gate.participants == {"nav2:1": 200 * MS, "localization:2": 240 * MS}
+
+
+def test_leaving_releases_the_sim() -> None:
+    gate = _gate()
+    gate.report("nav2:1", 100 * MS, 100.0)
+    gate.report("slow:2", 20 * MS, 100.0)
+    assert gate.limit_ns(100.0) == 20 * MS + LEAD
+    assert gate.report("slow:2", LEAVE_NS, 100.1) is False
+    assert gate.limit_ns(100.1) == 100 * MS + LEAD
+    gate.report("nav2:1", LEAVE_NS, 100.2)
+    assert gate.limit_ns(100.2) is None
+    assert gate.take_dropped() == []                               # leaving is not a fault
+
+
+def test_a_silent_participant_is_dropped_once_and_rejoins_when_it_reports() -> None:
+    gate = _gate()
+    gate.report("nav2:1", 100 * MS, 100.0)
+    gate.report("bt:2", 10 * MS, 100.0)
+    gate.report("nav2:1", 300 * MS, 104.0)
+    assert gate.limit_ns(104.9) == 10 * MS + LEAD                  # bt silent 4.9 s: still waited for
+    assert gate.take_dropped() == []
+    assert gate.limit_ns(105.0) == 300 * MS + LEAD                 # 5.0 s: dropped
+    assert gate.take_dropped() == [Dropped("bt", "bt:2", 5.0)]
+    assert gate.limit_ns(106.0) == 300 * MS + LEAD
+    assert gate.take_dropped() == []                               # named once only
+    assert gate.report("bt:2", 400 * MS, 107.0) is True            # back: it holds the sim again
+    assert gate.limit_ns(107.0) == 300 * MS + LEAD
+    gate.report("nav2:1", 500 * MS, 107.0)
+    assert gate.limit_ns(107.0) == 400 * MS + LEAD
+
+
+def test_expected_roles_hold_the_first_step_until_each_has_reported() -> None:
+    gate = _gate(expected=("nav2", "localization"))
+    assert gate.waiting_for == {"nav2", "localization"}
+    assert gate.limit_ns(100.0) == HOLD
+    gate.report("nav2:1", 1, 101.0)
+    assert gate.limit_ns(101.0) == HOLD
+    assert gate.waiting_for == {"localization"}
+    gate.report("localization:7", 1, 102.0)
+    assert gate.waiting_for == frozenset()
+    assert gate.limit_ns(102.0) == 1 + LEAD
+
+
+def test_missing_expected_roles_are_named_once_after_the_startup_timeout() -> None:
+    gate = _gate(expected=("nav2", "localization"))
+    gate.report("nav2:1", 1, 110.0)
+    gate.report("nav2:1", 1, 158.0)               # answers the repeated /clock while the sim holds
+    assert gate.limit_ns(159.9) == HOLD
+    assert gate.limit_ns(160.0) == 1 + LEAD       # nav2 is still live: its report holds the sim
+    assert gate.take_dropped() == [Dropped("localization", None, 60.0)]
+    assert gate.take_dropped() == []
+    assert gate.waiting_for == frozenset()
+
+
+def test_silence_while_suspended_counts_against_nobody() -> None:
+    gate = _gate(expected=("late",))
+    gate.report("nav2:1", 100 * MS, 100.0)
+    gate.suspend(101.0)
+    assert gate.limit_ns(150.0) == HOLD            # nothing expires while suspended
+    gate.resume(151.0)                             # 50 s suspended
+    assert gate.limit_ns(154.9) == HOLD            # nav2 silent 4.9 s of counted time
+    assert gate.take_dropped() == []
+    assert gate.limit_ns(155.0) == HOLD
+    assert gate.take_dropped() == [Dropped("nav2", "nav2:1", 5.0)]
+    assert gate.limit_ns(209.9) == HOLD            # the startup deadline moved by the 50 s too
+    assert gate.limit_ns(210.0) is None
+    assert gate.take_dropped() == [Dropped("late", None, 60.0)]
+
+
+def test_role_is_the_name_before_the_last_colon() -> None:
+    assert role_of("nav2:4242") == "nav2"
+    assert role_of("ns:sub:17") == "ns:sub"
+    assert role_of("plain") == "plain"
