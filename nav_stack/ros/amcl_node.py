@@ -358,7 +358,7 @@ class AmclNode(NavLifecycleNode):
 
 def main(argv: list[str] | None = None) -> int:
     """Run the node (``--ros-args --params-file config/nav2_params.yaml``); a lifecycle manager starts it."""
-    return run_nodes(lambda: [AmclNode()], argv, multithreaded=False)
+    return run_nodes(lambda: [AmclNode()], argv, role="amcl")
 
 
 if __name__ == "__main__":

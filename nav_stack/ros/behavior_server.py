@@ -14,17 +14,16 @@ one. A cancel publishes a zero command at once; every end publishes a zero comma
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PolygonStamped
 from nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
 from nav2_msgs.msg import Costmap
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -41,6 +40,7 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.actions import ActionServer
 
 #: plugin type -> (action type, TF_ERROR code)
 BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
@@ -77,9 +77,6 @@ class BehaviorServer(NavLifecycleNode):
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__("behavior_server", **kwargs)
-        self._lock = threading.Lock()
-        self._cycle_group = MutuallyExclusiveCallbackGroup()
-        self._action_group = ReentrantCallbackGroup()
         self._current: _BehaviorRun | None = None
         self._grid: CostGrid | None = None
         self._footprint_msg: PolygonStamped | None = None
@@ -104,23 +101,20 @@ class BehaviorServer(NavLifecycleNode):
                                  f"{sorted(BEHAVIOR_TYPES)}")
             action_type, tf_error = BEHAVIOR_TYPES[kind]
             self._servers.append(ActionServer(
-                self, action_type, name, lambda handle, k=kind, t=tf_error: self._execute(handle, k, t),
-                callback_group=self._action_group, goal_callback=self._accept_goal,
-                cancel_callback=self._cancel))
+                self, action_type, name, partial(self._execute, kind=kind, tf_error=tf_error),
+                goal_callback=self._accept_goal, cancel_callback=self._cancel))
 
     def activate(self) -> None:
-        self._timer = self.create_timer(1.0 / self.behavior_params.cycle_frequency, self._cycle,
-                                        callback_group=self._cycle_group)
+        self._timer = self.create_timer(1.0 / self.behavior_params.cycle_frequency, self._cycle)
         self._active = True
 
     def deactivate(self) -> None:
         self._active = False
         self.destroy_timer(self._timer)
-        with self._lock:
-            if self._current is not None:
-                self._current.finish(Outcome.ABORTED, 0, "behavior_server deactivated")
-                self._current = None
-            self._cmd.stop()
+        if self._current is not None:
+            self._current.finish(Outcome.ABORTED, 0, "behavior_server deactivated")
+            self._current = None
+        self._cmd.stop()
 
     def cleanup(self) -> None:
         for server in self._servers:
@@ -191,57 +185,53 @@ class BehaviorServer(NavLifecycleNode):
             run.finish(Outcome.ABORTED, refused.error_code, refused.error_msg)
         return run
 
-    def _execute(self, handle: Any, kind: str, tf_error: int) -> Any:
+    async def _execute(self, handle: Any, kind: str, tf_error: int) -> Any:
         run = self._start(handle, kind, tf_error)
         if not run.finished:
-            with self._lock:
-                if self._current is not None:
-                    self._current.finish(Outcome.ABORTED, 0, f"preempted by a new {kind} goal")
-                self._current = run
-                if self._active:
-                    self._timer.reset()  # the cycle sleeps while no goal runs
+            if self._current is not None:
+                self._current.finish(Outcome.ABORTED, 0, f"preempted by a new {kind} goal")
+            self._current = run
+            if self._active:
+                self._timer.reset()  # the cycle sleeps while no goal runs
             self.get_logger().info(f"running {kind}")
-        result = run.wait(self.context)
-        return result
+        return await run.wait()
 
     def _cancel(self, handle: Any) -> CancelResponse:
-        with self._lock:
-            run = self._current
-            if run is not None and run.handle is handle:
-                run.stop_requested = True
-                self._cmd.stop()
+        run = self._current
+        if run is not None and run.handle is handle:
+            run.stop_requested = True
+            self._cmd.stop()
         return CancelResponse.ACCEPT
 
     # -- the cycle ---------------------------------------------------------------------------------
     def _cycle(self) -> None:
-        with self._lock:
-            run = self._current
-            if run is None or run.finished:
-                self._current = None
-                self._timer.cancel()  # idle: no wake-ups until the next goal resets it
-                return
-            if run.stop_requested:
-                if run.handle.is_cancel_requested:
-                    self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0))
-                return
-            now = self._now()
-            if run.kind == "Wait":
-                outcome = run.behavior.step(now)
-                run.handle.publish_feedback(Wait.Feedback(time_left=duration_msg(run.behavior.time_left)))
-                if outcome is not None:
-                    self._end(run, Outcome.SUCCEEDED, outcome)
-                return
-            try:
-                pose = self.frames.robot_pose(self.params.local_frame)
-            except FrameError as error:
-                self._end(run, Outcome.ABORTED, BehaviorResult(run.tf_error, str(error), 0.0))
-                return
-            step = run.behavior.step(pose, now, self._grid)
-            if isinstance(step, BehaviorResult):
-                self._end(run, Outcome.SUCCEEDED if step.succeeded else Outcome.ABORTED, step)
-                return
-            self._cmd.publish(step.vx, step.wz)
-            self._feedback(run)
+        run = self._current
+        if run is None or run.finished:
+            self._current = None
+            self._timer.cancel()  # idle: no wake-ups until the next goal resets it
+            return
+        if run.stop_requested:
+            if run.handle.is_cancel_requested:
+                self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0))
+            return
+        now = self._now()
+        if run.kind == "Wait":
+            outcome = run.behavior.step(now)
+            run.handle.publish_feedback(Wait.Feedback(time_left=duration_msg(run.behavior.time_left)))
+            if outcome is not None:
+                self._end(run, Outcome.SUCCEEDED, outcome)
+            return
+        try:
+            pose = self.frames.robot_pose(self.params.local_frame)
+        except FrameError as error:
+            self._end(run, Outcome.ABORTED, BehaviorResult(run.tf_error, str(error), 0.0))
+            return
+        step = run.behavior.step(pose, now, self._grid)
+        if isinstance(step, BehaviorResult):
+            self._end(run, Outcome.SUCCEEDED if step.succeeded else Outcome.ABORTED, step)
+            return
+        self._cmd.publish(step.vx, step.wz)
+        self._feedback(run)
 
     def _feedback(self, run: _BehaviorRun) -> None:
         action_type = BEHAVIOR_TYPES[run.kind][0]
@@ -273,7 +263,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m nav_stack.ros.behavior_server [--autostart] [--ros-args ...]``."""
-    return run_nodes(build_nodes, argv)
+    return run_nodes(build_nodes, argv, role="behavior_server")
 
 
 if __name__ == "__main__":

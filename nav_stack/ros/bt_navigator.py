@@ -3,10 +3,10 @@
 Lifecycle node ``bt_navigator`` (Nav2 Jazzy names). A goal's ``behavior_tree`` field names another
 XML file; a tree that fails to load aborts the goal with the loader's message (file, line, node).
 
-Scheduling: one steady-clock timer ticks the tree every ``bt_loop_duration`` ms inside a
-mutually exclusive callback group shared with every leaf's client (see bt_nodes/context.py);
-tree time is the node clock (sim time under use_sim_time). Execute callbacks only hand their goal
-to the loop and wait for its outcome (one executor thread each), so the executor keeps serving.
+Scheduling: one node-clock timer ticks the tree every ``bt_loop_duration`` ms (sim time under
+use_sim_time, so the tree sees the same ticks however fast the simulation runs); every leaf's
+client sends and receives on the same executor thread. Execute callbacks are coroutines that
+only hand their goal to the loop and await its outcome, so the executor keeps serving.
 
 Preemption: a new goal for the running navigator replaces the goal on the blackboard (GoalUpdated
 fires) and the previous goal is aborted, as nav2_util's SimpleActionServer does; a goal asking for
@@ -22,7 +22,6 @@ published as nav2_msgs/BehaviorTreeLog on ``behavior_tree_log``; a PoseStamped o
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -31,8 +30,7 @@ from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import NavigateToPose
 from nav2_msgs.msg import BehaviorTreeLog, BehaviorTreeStatusChange
 from nav_msgs.msg import Odometry
-from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.action import ActionClient, CancelResponse, GoalResponse
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -53,6 +51,7 @@ from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
+from ros_tools.runtime.actions import ActionServer
 
 #: Kilted's NavigateToPose FAILED_TO_LOAD_BEHAVIOR_TREE; Jazzy's message names no code for it.
 FAILED_TO_LOAD_BEHAVIOR_TREE = 9001
@@ -101,7 +100,6 @@ class BtNavigator(NavLifecycleNode):
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__("bt_navigator", **kwargs)
-        self._lock = threading.Lock()
         self._active = False
         self._session: Session | None = None
         self._pending: tuple[GoalRun, Navigator] | None = None
@@ -115,7 +113,7 @@ class BtNavigator(NavLifecycleNode):
     def configure(self) -> None:
         self.params = p = declare_dataclass(self, BtNavigatorParams)
         self.frames = Frames(self, p.robot_base_frame)
-        self.ros = BtRosContext(self, self.frames, MutuallyExclusiveCallbackGroup())
+        self.ros = BtRosContext(self, self.frames)
         self.ros.global_frame, self.ros.robot_base_frame = p.global_frame, p.robot_base_frame
         self.selectors = SelectorTopics(self)
         self.factory = BehaviorTreeFactory()
@@ -130,14 +128,11 @@ class BtNavigator(NavLifecycleNode):
             self._load(navigator.default_tree)  # fail the transition on a broken default tree
         self._log_pub = self.create_publisher(BehaviorTreeLog, "behavior_tree_log", DEFAULT)
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
-        goal_group = MutuallyExclusiveCallbackGroup()
-        self._goal_pose_sub = self.create_subscription(PoseStamped, "goal_pose", self._on_goal_pose, DEFAULT,
-                                                       callback_group=goal_group)
-        self._self_client = ActionClient(self, NavigateToPose, "navigate_to_pose", callback_group=goal_group)
-        group = ReentrantCallbackGroup()
+        self._goal_pose_sub = self.create_subscription(PoseStamped, "goal_pose", self._on_goal_pose, DEFAULT)
+        self._self_client = ActionClient(self, NavigateToPose, "navigate_to_pose")
         self._servers = [
             ActionServer(self, nav.action_type, nav.action_name, self._executor_for(nav),
-                         callback_group=group, goal_callback=self._goal_filter(nav),
+                         goal_callback=self._goal_filter(nav),
                          cancel_callback=lambda _: CancelResponse.ACCEPT,
                          result_timeout=int(p.action_server_result_timeout))
             for nav in self.navigators
@@ -145,17 +140,17 @@ class BtNavigator(NavLifecycleNode):
 
     def activate(self) -> None:
         self._active = True
-        self._timer = self.create_timer(self.params.bt_loop_duration / 1000.0, self._tick,
-                                        callback_group=self.ros.group, clock=self._steady)
+        # On the node clock: under use_sim_time the tree ticks every bt_loop_duration ms of sim time,
+        # so a faster-than-real-time run ticks it as often per simulated second as a real-time one.
+        self._timer = self.create_timer(self.params.bt_loop_duration / 1000.0, self._tick)
 
     def deactivate(self) -> None:
         self._active = False
         if self._timer is not None:
             self.destroy_timer(self._timer)
             self._timer = None
-        with self._lock:
-            session, self._session = self._session, None
-            pending, self._pending = self._pending, None
+        session, self._session = self._session, None
+        pending, self._pending = self._pending, None
         if session is not None:
             self._end(session, Outcome.ABORTED, 0, "bt_navigator was deactivated")
         if pending is not None:
@@ -188,15 +183,14 @@ class BtNavigator(NavLifecycleNode):
         return accept
 
     def _executor_for(self, navigator: Navigator) -> Any:
-        def execute(handle: Any) -> Any:
+        async def execute(handle: Any) -> Any:
             goal_run = GoalRun(handle, navigator.action_type.Result())
-            with self._lock:
-                replaced, self._pending = self._pending, (goal_run, navigator)
-                if self._timer is not None:
-                    self._timer.reset()
+            replaced, self._pending = self._pending, (goal_run, navigator)
+            if self._timer is not None:
+                self._timer.reset()
             if replaced is not None:
                 replaced[0].finish(Outcome.ABORTED, error_msg="replaced by a newer goal before it started")
-            return goal_run.wait(self.context)
+            return await goal_run.wait()
         return execute
 
     def _on_goal_pose(self, msg: PoseStamped) -> None:
@@ -271,8 +265,7 @@ class BtNavigator(NavLifecycleNode):
         self.get_logger().info(f"{navigator.action_name}: goal preempted by a new goal")
 
     def _tick(self) -> None:
-        with self._lock:
-            pending, self._pending = self._pending, None
+        pending, self._pending = self._pending, None
         if pending is not None:
             if self._session is None:
                 self._start(*pending)
@@ -280,9 +273,8 @@ class BtNavigator(NavLifecycleNode):
                 self._preempt(self._session, *pending)
         session = self._session
         if session is None:
-            with self._lock:  # idle: stop ticking until the next goal resets the timer
-                if self._timer is not None and self._pending is None:
-                    self._timer.cancel()
+            if self._timer is not None and self._pending is None:  # idle: no ticks until the next goal
+                self._timer.cancel()
             return
         assert session.tree is not None
         if session.run.handle.is_cancel_requested:
@@ -361,7 +353,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m nav_stack.ros.bt_navigator [--autostart] [--ros-args ...]``."""
-    return run(build_nodes, argv)
+    return run(build_nodes, argv, role="bt_navigator")
 
 
 if __name__ == "__main__":

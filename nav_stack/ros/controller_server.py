@@ -15,21 +15,19 @@ INVALID_CONTROLLER (101), a missing transform TF_ERROR (102).
 A new goal while one runs takes over at the next cycle: with the same controller the plugins keep
 their state and only the path changes (no stop, the goal checker restarts); the old goal is aborted
 with error code 0 and "preempted", as Nav2's action server does. A cancel publishes a zero command
-inside the cancel callback, under the lock the cycle publishes with, so the next /cmd_vel is zero.
+inside the cancel callback, so the next /cmd_vel is zero.
 """
 
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from nav2_msgs.action import FollowPath
 from nav_msgs.msg import Odometry, Path
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -58,6 +56,7 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from nav_stack.ros.selectors import Selector
+from ros_tools.runtime.actions import ActionServer
 
 Code = ControllerErrorCode
 
@@ -104,9 +103,6 @@ class ControllerServer(NavLifecycleNode):
         super().__init__("controller_server", **kwargs)
         self.costmap_node = costmap_node or CostmapROS(
             "local_costmap", defaults=CostmapParams.local_defaults(), **kwargs)
-        self._lock = threading.Lock()
-        self._cycle_group = MutuallyExclusiveCallbackGroup()
-        self._action_group = ReentrantCallbackGroup()
         self._current: _PathRun | None = None
         self._velocity = Twist2D(0.0, 0.0)
         self._speed = 0.0  # m/s, from odometry, for the feedback
@@ -132,23 +128,20 @@ class ControllerServer(NavLifecycleNode):
         self._selectors = [Selector(self, "controller_selector"), Selector(self, "goal_checker_selector")]
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
         self._server = ActionServer(self, FollowPath, "follow_path", self._execute,
-                                    callback_group=self._action_group, goal_callback=self._accept_goal,
-                                    cancel_callback=self._cancel)
+                                    goal_callback=self._accept_goal, cancel_callback=self._cancel)
 
     def activate(self) -> None:
         run_transition(self.costmap_node, "activate")
-        self._timer = self.create_timer(1.0 / self.params.controller_frequency, self._cycle,
-                                        callback_group=self._cycle_group)
+        self._timer = self.create_timer(1.0 / self.params.controller_frequency, self._cycle)
         self._active = True
 
     def deactivate(self) -> None:
         self._active = False
         self.destroy_timer(self._timer)
-        with self._lock:
-            if self._current is not None:
-                self._current.finish(Outcome.ABORTED, Code.UNKNOWN, "controller_server deactivated")
-                self._current = None
-            self._cmd.stop()
+        if self._current is not None:
+            self._current.finish(Outcome.ABORTED, Code.UNKNOWN, "controller_server deactivated")
+            self._current = None
+        self._cmd.stop()
         run_transition(self.costmap_node, "deactivate")
 
     def cleanup(self) -> None:
@@ -173,7 +166,7 @@ class ControllerServer(NavLifecycleNode):
         self._velocity = Twist2D(vx, wz)
         self._speed = math.hypot(twist.linear.x, twist.linear.y)
 
-    def _execute(self, handle: Any) -> FollowPath.Result:
+    async def _execute(self, handle: Any) -> FollowPath.Result:
         goal = handle.request
         controller_sel, checker_sel = self._selectors
         p = self.params
@@ -186,24 +179,23 @@ class ControllerServer(NavLifecycleNode):
             run.handler.set_plan(path_to_array(goal.path))
         except ControllerError as error:
             run.finish(Outcome.ABORTED, error.code, error.message)
-            return run.wait(self.context)
-        with self._lock:
-            old = self._current
-            seamless = old is not None and not old.finished and old.ids[0] == ids[0]
-            if old is not None:
-                old.finish(Outcome.ABORTED, Code.NONE, "preempted by a newer goal")
-            if seamless:
-                checker.reset()
-                run.last_valid = old.last_valid  # type: ignore[union-attr]
-            else:
-                for plugin in (controller, checker, progress):
-                    plugin.reset()
-            self._current = run
-            if self._active:
-                self._timer.reset()  # the cycle sleeps while no goal runs
+            return await run.wait()
+        old = self._current
+        seamless = old is not None and not old.finished and old.ids[0] == ids[0]
+        if old is not None:
+            old.finish(Outcome.ABORTED, Code.NONE, "preempted by a newer goal")
+        if seamless:
+            checker.reset()
+            run.last_valid = old.last_valid  # type: ignore[union-attr]
+        else:
+            for plugin in (controller, checker, progress):
+                plugin.reset()
+        self._current = run
+        if self._active:
+            self._timer.reset()  # the cycle sleeps while no goal runs
         self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
                                + (" (path updated)" if seamless else ""))
-        return run.wait(self.context)
+        return await run.wait()
 
     def _plugins(self, ids: tuple[str, str, str]) -> tuple[Any, Any, Any]:
         sets: tuple[Mapping[str, Any], ...] = (
@@ -216,34 +208,32 @@ class ControllerServer(NavLifecycleNode):
         return tuple(s[i] for s, i in zip(sets, ids, strict=True))  # type: ignore[return-value]
 
     def _cancel(self, handle: Any) -> CancelResponse:
-        with self._lock:
-            run = self._current
-            if run is not None and run.handle is handle:
-                run.stop_requested = True
-                self._cmd.stop()
+        run = self._current
+        if run is not None and run.handle is handle:
+            run.stop_requested = True
+            self._cmd.stop()
         return CancelResponse.ACCEPT
 
     # -- the control cycle -------------------------------------------------------------------------
     def _cycle(self) -> None:
-        with self._lock:
-            run = self._current
-            if run is None or run.finished:
-                self._current = None
-                self._timer.cancel()  # idle: no wake-ups until the next goal resets it
-                return
-            if run.stop_requested:
-                if run.handle.is_cancel_requested:
-                    self._end(run, Outcome.CANCELED, Code.NONE, "canceled")
-                return
-            try:
-                self._control(run)
-            except ControllerError as error:
-                self._end(run, Outcome.ABORTED, error.code, error.message)
-            except FrameError as error:
-                self._end(run, Outcome.ABORTED, Code.TF_ERROR, str(error))
-            except Exception as error:  # a plugin bug must become UNKNOWN, never kill the server
-                self.get_logger().error(f"controller failed: {type(error).__name__}: {error}")
-                self._end(run, Outcome.ABORTED, Code.UNKNOWN, f"{type(error).__name__}: {error}")
+        run = self._current
+        if run is None or run.finished:
+            self._current = None
+            self._timer.cancel()  # idle: no wake-ups until the next goal resets it
+            return
+        if run.stop_requested:
+            if run.handle.is_cancel_requested:
+                self._end(run, Outcome.CANCELED, Code.NONE, "canceled")
+            return
+        try:
+            self._control(run)
+        except ControllerError as error:
+            self._end(run, Outcome.ABORTED, error.code, error.message)
+        except FrameError as error:
+            self._end(run, Outcome.ABORTED, Code.TF_ERROR, str(error))
+        except Exception as error:  # a plugin bug must become UNKNOWN, never kill the server
+            self.get_logger().error(f"controller failed: {type(error).__name__}: {error}")
+            self._end(run, Outcome.ABORTED, Code.UNKNOWN, f"{type(error).__name__}: {error}")
 
     def _end(self, run: _PathRun, outcome: Outcome, code: int, message: str) -> None:
         self._cmd.stop()
@@ -304,7 +294,7 @@ class ControllerServer(NavLifecycleNode):
 
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
-    """controller_server and its local_costmap node, ready to add to one MultiThreadedExecutor."""
+    """controller_server and its local_costmap node, ready to add to one executor."""
     if use_sim_time:
         kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
                                          Parameter("use_sim_time", value=True)]
@@ -314,7 +304,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m nav_stack.ros.controller_server [--autostart] [--ros-args ...]``."""
-    return run_nodes(build_nodes, argv)
+    return run_nodes(build_nodes, argv, role="controller_server")
 
 
 if __name__ == "__main__":

@@ -3,8 +3,8 @@
 Nav2 runs a costmap as its own lifecycle node inside the server that uses it: planner_server owns
 ``global_costmap`` (namespace ``global_costmap``), controller_server owns ``local_costmap``. The
 owner drives this node's transitions from its own and reads the costs directly through
-:meth:`snapshot`, a copy taken under the lock the update timer holds, so a planner thread never
-sees a half-updated grid.
+:meth:`snapshot` (a copy, so a plan or a control cycle works on one consistent grid) and awaits
+:attr:`ready` (a future done at the first successful update) before its first plan.
 
 Data in: the map (``<static>.map_topic``, transient local), laser scans (``<obstacle>.<source>.topic``,
 sensor QoS), the robot pose from TF. A scan is added with the sensor pose at its stamp; when TF has
@@ -29,9 +29,9 @@ from geometry_msgs.msg import Point32, PolygonStamped
 from nav2_msgs.msg import Costmap
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap
 from nav_msgs.msg import OccupancyGrid
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.qos import QoSProfile
+from rclpy.task import Future
 from rclpy.timer import Timer
 from sensor_msgs.msg import LaserScan as LaserScanMsg
 
@@ -73,12 +73,11 @@ class CostmapROS(NavLifecycleNode):
                                       else CostmapParams())
         self._parent_ns = parent_namespace.rstrip("/")
         self._lock = threading.Lock()
-        self._group = MutuallyExclusiveCallbackGroup()
         self.params = self._defaults
         self.costmap: LayeredCostmap | None = None
         self.frames: Frames | None = None
         self._pending_scans: deque[tuple[LaserScanMsg, float]] = deque(maxlen=50)
-        self._updated = threading.Event()
+        self.ready = Future()  # done at the first successful update
         self._entities: list[object] = []
         self._layer_timers: list[object] = []
         self._warmup_timer: Timer | None = None
@@ -96,29 +95,25 @@ class CostmapROS(NavLifecycleNode):
             if isinstance(layer, StaticLayer):
                 qos = LATCHED if layer.params.map_subscribe_transient_local else DEFAULT
                 self._entities.append(self.create_subscription(
-                    OccupancyGrid, self._topic(layer.params.map_topic), self._on_map, qos,
-                    callback_group=self._group))
+                    OccupancyGrid, self._topic(layer.params.map_topic), self._on_map, qos))
             elif isinstance(layer, ObstacleLayer):
                 depth50 = QoSProfile(depth=50, reliability=SENSOR.reliability, durability=SENSOR.durability)
                 self._entities.append(self.create_subscription(
-                    LaserScanMsg, self._topic(layer.params.topic), self._on_scan, depth50,
-                    callback_group=self._group))
+                    LaserScanMsg, self._topic(layer.params.topic), self._on_scan, depth50))
         name = self.get_name()
         self._entities += [
-            self.create_service(ClearEntireCostmap, f"clear_entirely_{name}", self._on_clear,
-                                callback_group=self._group),
-            self.create_service(GetCostmap, "get_costmap", self._on_get_costmap, callback_group=self._group),
+            self.create_service(ClearEntireCostmap, f"clear_entirely_{name}", self._on_clear),
+            self.create_service(GetCostmap, "get_costmap", self._on_get_costmap),
         ]
 
     def activate(self) -> None:
         p = self.params
         self._layer_timers = [
-            self.create_timer(1.0 / p.update_frequency, self._update, callback_group=self._group),
-            self.create_timer(1.0 / p.publish_frequency, self._publish, callback_group=self._group),
+            self.create_timer(1.0 / p.update_frequency, self._update),
+            self.create_timer(1.0 / p.publish_frequency, self._publish),
         ]
         if p.update_frequency < 1.0 / FIRST_UPDATE_RETRY:
-            self._warmup_timer = self.create_timer(FIRST_UPDATE_RETRY, self._update_until_ready,
-                                                   callback_group=self._group)
+            self._warmup_timer = self.create_timer(FIRST_UPDATE_RETRY, self._update_until_ready)
             self._layer_timers.append(self._warmup_timer)
 
     def _update_until_ready(self) -> None:
@@ -128,9 +123,9 @@ class CostmapROS(NavLifecycleNode):
         pose (AMCL's map -> odom). A plan requested right after localization then waited up to a
         second more for it, beyond the planner's costmap_update_timeout (1 s) under load: TIMEOUT.
         """
-        if not self._updated.is_set():
+        if not self.ready.done():
             self._update()
-        if self._updated.is_set() and self._warmup_timer is not None:  # None: first tick before assignment
+        if self.ready.done() and self._warmup_timer is not None:  # None: first tick before assignment
             self._warmup_timer.cancel()
 
     def deactivate(self) -> None:
@@ -149,6 +144,7 @@ class CostmapROS(NavLifecycleNode):
         if self.frames is not None:
             self.frames.destroy()
         self.frames, self.costmap = None, None
+        self.ready = Future()
 
     # -- what owners use -------------------------------------------------------------------------
     @property
@@ -158,13 +154,10 @@ class CostmapROS(NavLifecycleNode):
     def snapshot(self) -> tuple[np.ndarray, GridSpec] | None:
         """A copy of the current costs and their grid, or None before the first update."""
         with self._lock:
-            if self.costmap is None or not self.costmap.is_sized or not self._updated.is_set():
+            if self.costmap is None or not self.costmap.is_sized or not self.ready.done():
                 return None
             return self.costmap.costs.copy(), self.costmap.spec
 
-    def wait_until_ready(self, timeout: float) -> bool:
-        """Block (wall clock) until the costmap has been updated once; False on timeout."""
-        return self._updated.wait(timeout)
 
     # -- callbacks --------------------------------------------------------------------------------
     def _topic(self, name: str) -> str:
@@ -219,7 +212,8 @@ class CostmapROS(NavLifecycleNode):
                 self.get_logger().info("waiting for the map", throttle_duration_sec=5.0)
                 return
             self.costmap.update(pose)
-        self._updated.set()
+        if not self.ready.done():
+            self.ready.set_result(True)
 
     def _publish(self) -> None:
         snap = self.snapshot()

@@ -2,23 +2,23 @@
 
 Why: controller_server and behavior_server run their goals in periodic cycles (20 Hz / 10 Hz on
 the node clock, so sim time paces them) rather than in a loop inside the execute callback. The
-execute callback only waits on :class:`GoalRun` (one executor thread blocks, which is why servers
-run on a MultiThreadedExecutor); the timer decides the outcome; the execute callback then applies
-it to the goal handle. Applying it there, not in the timer, keeps rclpy's goal-state transitions on
-the thread that owns the goal, and a cancel is only acknowledged (``canceled``) once rclpy has
-moved the goal to CANCELING.
+execute callback is a coroutine (run by ros_tools.runtime.actions.ActionServer) that awaits
+:meth:`GoalRun.wait`: it suspends on a future and costs nothing until the run ends, while the one
+executor thread serves timers, subscriptions and other goals. The timer
+decides the outcome (:meth:`GoalRun.finish`); the coroutine then applies it to the goal handle.
+Applying it there keeps rclpy's goal-state transitions inside the goal's own execute task, and a
+cancel is only acknowledged (``canceled``) once rclpy has moved the goal to CANCELING.
 """
 
 from __future__ import annotations
 
 import enum
-import threading
 from typing import Any
 
 from rclpy.action.server import ServerGoalHandle
-from rclpy.context import Context
+from rclpy.task import Future
 
-WAIT_POLL = 0.1  # s between checks that the context is still alive while waiting
+from ros_tools.runtime.coroutines import until
 
 
 class Outcome(enum.Enum):
@@ -35,26 +35,24 @@ class GoalRun:
         self.result = result
         self.stop_requested = False  # set by the cancel callback: send no more motion commands
         self.outcome: Outcome | None = None
-        self._done = threading.Event()
+        self._done = Future()
 
     @property
     def finished(self) -> bool:
-        return self._done.is_set()
+        return self._done.done()
 
     def finish(self, outcome: Outcome, error_code: int = 0, error_msg: str = "") -> None:
         """End the run (first call wins); ``error_code``/``error_msg`` go into the result."""
-        if self._done.is_set():
+        if self._done.done():
             return
         self.result.error_code = int(error_code)
         self.result.error_msg = error_msg
         self.outcome = outcome
-        self._done.set()
+        self._done.set_result(outcome)
 
-    def wait(self, context: Context) -> Any:
-        """Block the execute callback until the run ends, set the goal's final state, return the result."""
-        while not self._done.wait(WAIT_POLL):
-            if not context.ok():
-                self.finish(Outcome.ABORTED, error_msg="the node is shutting down")
+    async def wait(self) -> Any:
+        """Suspend the execute coroutine until the run ends, set the goal's final state, return the result."""
+        await until(self._done)
         if self.outcome is Outcome.SUCCEEDED:
             self.handle.succeed()
         elif self.outcome is Outcome.CANCELED and self.handle.is_cancel_requested:

@@ -17,6 +17,8 @@ from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRet
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.timer import Timer
 
+from ros_tools.runtime.executor import reentrant_default_group
+
 BOND_TOPIC = "/bond"
 BOND_HEARTBEAT_PERIOD = 0.1  # s, as nav2_util::LifecycleNode::createBond sets it
 BOND_HEARTBEAT_TIMEOUT = 4.0  # s, Nav2's default bond_timeout
@@ -32,6 +34,7 @@ class NavLifecycleNode(LifecycleNode):
 
     def __init__(self, node_name: str, **kwargs: object) -> None:
         super().__init__(node_name, **kwargs)  # type: ignore[arg-type]
+        reentrant_default_group(self)
         self._bond_pub = self.create_publisher(Status, BOND_TOPIC, BOND_QOS)
         self._bond_instance = str(uuid.uuid4())
         self._bond_timer: Timer | None = None

@@ -22,7 +22,7 @@ the manager logs Nav2's CRITICAL FAILURE message, resets every other node, and (
 ``bond_respawn_max_duration``.
 
 Nothing blocks the executor: every service call is awaited inside a coroutine callback, and the
-waits use one-shot timers, so any executor works (single- or multi-threaded).
+waits use one-shot timers (steady clock: they are safety nets); commands run one at a time.
 """
 
 from __future__ import annotations
@@ -35,17 +35,18 @@ from bond.msg import Status
 from lifecycle_msgs.msg import State, Transition
 from lifecycle_msgs.srv import ChangeState, GetState
 from nav2_msgs.srv import ManageLifecycleNodes
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.client import Client
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.task import Future
 from rclpy.timer import Timer
 from std_srvs.srv import Trigger
 
 from nav_stack.ros.lifecycle import BOND_QOS, BOND_TOPIC
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
+from ros_tools.runtime.coroutines import create_async_service, in_task, spawn
+from ros_tools.runtime.executor import reentrant_default_group
+from ros_tools.runtime.waiting import Serializer, sleep, wait_for
 
 BOND_CHECK_PERIOD = 0.2  # s, Nav2's bond timer
 RESPAWN_CHECK_PERIOD = 1.0  # s
@@ -87,38 +88,15 @@ class LifecycleManagerParams:
             raise ValueError(f"service_timeout must be > 0 s, got {self.service_timeout}")
 
 
-async def sleep(node: Node, seconds: float, group: Any = None) -> None:
-    """Suspend the calling coroutine callback for ``seconds`` (wall clock) without blocking its executor."""
-    gate = Future()
-    timer = node.create_timer(seconds, lambda: gate.done() or gate.set_result(True), callback_group=group,
-                              clock=Clock(clock_type=ClockType.STEADY_TIME))
-    try:
-        await gate
-    finally:
-        node.destroy_timer(timer)
-
-
-async def wait_for(node: Node, future: Future, timeout: float, group: Any = None) -> bool:
-    """Await ``future`` for at most ``timeout`` s (wall clock); True when it completed."""
-    gate = Future()
-    future.add_done_callback(lambda _f: gate.done() or gate.set_result(True))
-    timer = node.create_timer(timeout, lambda: gate.done() or gate.set_result(False), callback_group=group,
-                              clock=Clock(clock_type=ClockType.STEADY_TIME))
-    try:
-        return bool(await gate)
-    finally:
-        node.destroy_timer(timer)
-
-
 class LifecycleManager(Node):
     """Brings a list of lifecycle nodes up and down and watches their bonds."""
 
     def __init__(self, node_name: str = "lifecycle_manager", **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
+        reentrant_default_group(self)
         self.params = declare_dataclass(self, LifecycleManagerParams)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self._manage_group = MutuallyExclusiveCallbackGroup()  # one command at a time
-        self._io_group = ReentrantCallbackGroup()  # responses, heartbeats, wait timers
+        self._commands = Serializer()  # one command (or bond recovery) at a time
         self.system_active = False
         self._heartbeats: dict[str, float] = {}  # node → steady time of its last active heartbeat
         self._bonded: set[str] = set()
@@ -126,23 +104,17 @@ class LifecycleManager(Node):
         self._get_state: dict[str, Client] = {}
         self._change_state: dict[str, Client] = {}
         for name in self.params.node_names:
-            self._get_state[name] = self.create_client(GetState, f"{name}/get_state",
-                                                       callback_group=self._io_group)
-            self._change_state[name] = self.create_client(ChangeState, f"{name}/change_state",
-                                                          callback_group=self._io_group)
-        self.create_service(ManageLifecycleNodes, f"{self.get_name()}/manage_nodes", self._on_manage,
-                            callback_group=self._manage_group)
-        self.create_service(Trigger, f"{self.get_name()}/is_active", self._on_is_active,
-                            callback_group=self._io_group)
-        self.create_subscription(Status, BOND_TOPIC, self._on_bond, BOND_QOS, callback_group=self._io_group)
-        self.create_timer(BOND_CHECK_PERIOD, self._check_bonds, callback_group=self._manage_group,
-                          clock=self._steady)
+            self._get_state[name] = self.create_client(GetState, f"{name}/get_state")
+            self._change_state[name] = self.create_client(ChangeState, f"{name}/change_state")
+        create_async_service(self, ManageLifecycleNodes, f"{self.get_name()}/manage_nodes", self._on_manage)
+        self.create_service(Trigger, f"{self.get_name()}/is_active", self._on_is_active)
+        self.create_subscription(Status, BOND_TOPIC, self._on_bond, BOND_QOS)
+        self.create_timer(BOND_CHECK_PERIOD, in_task(self, self._check_bonds), clock=self._steady)
         self._respawn_timer: Timer | None = None
         self._respawn_deadline = 0.0
         self._autostart_timer: Timer | None = None
         if self.params.autostart:
-            self._autostart_timer = self.create_timer(0.0, self._autostart, callback_group=self._manage_group,
-                                                      clock=self._steady)
+            self._autostart_timer = self.create_timer(0.0, self._autostart, clock=self._steady)
 
     # -- services --------------------------------------------------------------------------------
     async def _on_manage(self, request: ManageLifecycleNodes.Request,
@@ -161,7 +133,7 @@ class LifecycleManager(Node):
             self.get_logger().error(f"manage_nodes: unknown command {request.command}")
             response.success = False
         else:
-            response.success = bool(await command())
+            response.success = bool(await self._commands.run(command))
         return response
 
     def _on_is_active(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
@@ -249,9 +221,9 @@ class LifecycleManager(Node):
             if polls % 20 == 19:
                 self.get_logger().info(f"Waiting for service {client.srv_name}...")
             polls += 1
-            await sleep(self, SERVICE_POLL_PERIOD, self._io_group)
+            await sleep(self, SERVICE_POLL_PERIOD, self._steady)
         future = client.call_async(request)
-        if not await wait_for(self, future, max(0.1, deadline - time.monotonic()), self._io_group):
+        if not await wait_for(self, future, max(0.1, deadline - time.monotonic()), self._steady):
             client.remove_pending_request(future)
             self.get_logger().error(f"service {client.srv_name} did not answer within {timeout:.1f} s")
             return None
@@ -302,15 +274,18 @@ class LifecycleManager(Node):
                 self.get_logger().error(f"Server {name} was unable to be reached after {timeout:.2f}s "
                                         "by bond. This server may be misconfigured.")
                 return False
-            await sleep(self, 0.05, self._io_group)
+            await sleep(self, 0.05, self._steady)
         self._bonded.add(name)
         self._broken.discard(name)
         self.get_logger().info(f"Server {name} connected with bond.")
         return True
 
     async def _check_bonds(self) -> None:
-        if not self.system_active or self.params.bond_timeout <= 0.0:
+        if not self.system_active or self.params.bond_timeout <= 0.0 or self._commands.busy:
             return
+        await self._commands.run(self._recover_lost_bonds)
+
+    async def _recover_lost_bonds(self) -> None:
         now = self._steady.now().nanoseconds * 1e-9
         for name in self.params.node_names:
             silent = now - self._heartbeats.get(name, now) > self.params.bond_timeout
@@ -328,8 +303,8 @@ class LifecycleManager(Node):
     def _start_respawn(self) -> None:
         self._stop_respawn()
         self._respawn_deadline = time.monotonic() + self.params.bond_respawn_max_duration
-        self._respawn_timer = self.create_timer(RESPAWN_CHECK_PERIOD, self._check_respawn,
-                                                callback_group=self._manage_group, clock=self._steady)
+        self._respawn_timer = self.create_timer(RESPAWN_CHECK_PERIOD, in_task(self, self._check_respawn),
+                                                clock=self._steady)
 
     def _stop_respawn(self) -> None:
         if self._respawn_timer is not None:
@@ -337,6 +312,12 @@ class LifecycleManager(Node):
             self._respawn_timer = None
 
     async def _check_respawn(self) -> None:
+        if not self._commands.busy:
+            await self._commands.run(self._try_respawn)
+
+    async def _try_respawn(self) -> None:
+        if self._respawn_timer is None:
+            return
         if time.monotonic() > self._respawn_deadline:
             self.get_logger().error(
                 f"Failed to bring up all requested nodes within {self.params.bond_respawn_max_duration:.1f} "
@@ -350,16 +331,17 @@ class LifecycleManager(Node):
             if not await self.startup():
                 self._start_respawn()
 
-    async def _autostart(self) -> None:
+    def _autostart(self) -> None:
+        """Once, as soon as the executor spins: start up the managed nodes."""
         if self._autostart_timer is not None:
             self.destroy_timer(self._autostart_timer)
             self._autostart_timer = None
-        await self.startup()
+            spawn(self, self._commands.run(self.startup))
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run one manager: ``--ros-args -r __node:=lifecycle_manager_localization --params-file ...``."""
-    return run_nodes(lambda: [LifecycleManager()], argv, multithreaded=False)
+    return run_nodes(lambda: [LifecycleManager()], argv, role="lifecycle_manager")
 
 
 if __name__ == "__main__":

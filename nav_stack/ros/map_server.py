@@ -147,7 +147,7 @@ class MapServer(NavLifecycleNode):
 
 def main(argv: list[str] | None = None) -> int:
     """Run the node; configure it with ``-p yaml_filename:=...`` and a lifecycle manager."""
-    return run_nodes(lambda: [MapServer()], argv, multithreaded=False)
+    return run_nodes(lambda: [MapServer()], argv, role="map_server")
 
 
 if __name__ == "__main__":

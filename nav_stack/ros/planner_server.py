@@ -6,7 +6,8 @@ listed in ``planner_plugins`` (``<id>.plugin``: nav2_navfn_planner::NavfnPlanner
 nav2_theta_star_planner::ThetaStarPlanner, knobs under ``<id>.``). A goal names its plugin by
 ``planner_id``; an empty id takes the last ``planner_selector`` message, else the first plugin.
 
-Per goal (in an executor worker thread, so the executor keeps serving; plans are serialised):
+Per goal (a coroutine: it awaits the costmap's first update on the node clock, then plans on the
+executor thread, so plans are serialised and their order is the order the goals arrived):
 poses are brought into the costmap frame through TF (TF_ERROR when that fails, including an
 empty frame_id), the start is the robot pose from TF unless ``use_start``, and the core returns
 the path or a Jazzy error code with ``error_msg``. A NaN or zero-norm orientation is refused with
@@ -16,7 +17,6 @@ poses on inscribed/lethal cells or off the map.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -25,8 +25,7 @@ import numpy as np
 from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
@@ -51,6 +50,8 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.selectors import Selector
+from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.waiting import wait_for
 
 #: plugin type (last part of ``<id>.plugin``) -> (parameter dataclass, planner class)
 PLANNER_TYPES: dict[str, tuple[type, type]] = {
@@ -76,8 +77,6 @@ class PlannerServer(NavLifecycleNode):
     def __init__(self, costmap_node: CostmapROS | None = None, **kwargs: Any) -> None:
         super().__init__("planner_server", **kwargs)
         self.costmap_node = costmap_node or CostmapROS("global_costmap", **kwargs)
-        self._group = ReentrantCallbackGroup()
-        self._plan_lock = threading.Lock()
         self._active = False
         self.core: PlannerServerCore | None = None
         self._entities: list[Any] = []
@@ -106,13 +105,12 @@ class PlannerServer(NavLifecycleNode):
         self._entities = [
             self._action(ComputePathToPose, "compute_path_to_pose", self._to_pose),
             self._action(ComputePathThroughPoses, "compute_path_through_poses", self._through_poses),
-            self.create_service(IsPathValid, "is_path_valid", self._is_path_valid,
-                                callback_group=self._group),
+            self.create_service(IsPathValid, "is_path_valid", self._is_path_valid),
         ]
 
     def _action(self, action_type: Any, name: str, execute: Any) -> ActionServer:
-        return ActionServer(self, action_type, name, execute, callback_group=self._group,
-                            goal_callback=self._accept_goal, cancel_callback=lambda _: CancelResponse.ACCEPT)
+        return ActionServer(self, action_type, name, execute, goal_callback=self._accept_goal,
+                            cancel_callback=lambda _: CancelResponse.ACCEPT)
 
     def activate(self) -> None:
         run_transition(self.costmap_node, "activate")
@@ -151,7 +149,7 @@ class PlannerServer(NavLifecycleNode):
         return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
 
     # -- planning ----------------------------------------------------------------------------------
-    def _plan(self, start_msg: Any, use_start: bool, goal_msgs: Sequence[Any], planner_id: str,
+    async def _plan(self, start_msg: Any, use_start: bool, goal_msgs: Sequence[Any], planner_id: str,
               through: bool) -> PlanResult:
         codes: Any = ThroughPosesErrorCode if through else PlanErrorCode
         assert self.core is not None
@@ -160,7 +158,7 @@ class PlannerServer(NavLifecycleNode):
             known = sorted(self.core.planners)
             return PlanResult(error_code=int(codes.INVALID_PLANNER),
                               error_msg=f"planner id '{planner_id}' is not one of {known}")
-        if not self.costmap_node.wait_until_ready(self.params.costmap_update_timeout):
+        if not await wait_for(self, self.costmap_node.ready, self.params.costmap_update_timeout):
             return PlanResult(error_code=int(codes.TIMEOUT), error_msg="the global costmap has no data yet "
                               f"(no map or no robot pose within {self.params.costmap_update_timeout} s)")
         snap = self.costmap_node.snapshot()
@@ -172,11 +170,10 @@ class PlannerServer(NavLifecycleNode):
             goals = [frames.to_frame(g, frame) for g in goal_msgs]
         except FrameError as error:
             return PlanResult(error_code=int(codes.TF_ERROR), error_msg=str(error))
-        with self._plan_lock:
-            if through:
-                result = self.core.compute_path_through_poses(start, goals, planner_id, *snap)
-            else:
-                result = self.core.compute_path_to_pose(start, goals[0], planner_id, *snap)
+        if through:
+            result = self.core.compute_path_through_poses(start, goals, planner_id, *snap)
+        else:
+            result = self.core.compute_path_to_pose(start, goals[0], planner_id, *snap)
         limit = 1.0 / self.params.expected_planner_frequency
         if result.planning_time > limit:
             self.get_logger().warn(f"planning took {result.planning_time:.3f} s, more than the "
@@ -200,14 +197,14 @@ class PlannerServer(NavLifecycleNode):
             handle.abort()
         return result_msg
 
-    def _to_pose(self, handle: Any) -> ComputePathToPose.Result:
+    async def _to_pose(self, handle: Any) -> ComputePathToPose.Result:
         goal = handle.request
-        result = self._plan(goal.start, goal.use_start, [goal.goal], goal.planner_id, through=False)
+        result = await self._plan(goal.start, goal.use_start, [goal.goal], goal.planner_id, through=False)
         return self._finish(handle, ComputePathToPose.Result(), result)
 
-    def _through_poses(self, handle: Any) -> ComputePathThroughPoses.Result:
+    async def _through_poses(self, handle: Any) -> ComputePathThroughPoses.Result:
         goal = handle.request
-        result = self._plan(goal.start, goal.use_start, list(goal.goals), goal.planner_id, through=True)
+        result = await self._plan(goal.start, goal.use_start, list(goal.goals), goal.planner_id, through=True)
         return self._finish(handle, ComputePathThroughPoses.Result(), result)
 
     def _is_path_valid(self, request: IsPathValid.Request, response: IsPathValid.Response
@@ -243,7 +240,7 @@ def _with_frame(pose: Any, frame: str) -> Any:
 
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
-    """planner_server and its global_costmap node, ready to add to one MultiThreadedExecutor.
+    """planner_server and its global_costmap node, ready to add to one executor.
 
     ``kwargs`` go to both node constructors (``context``, ``cli_args`` with ``--params-file``, ...).
     """
@@ -256,7 +253,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m nav_stack.ros.planner_server [--autostart] [--ros-args ...]``."""
-    return run_nodes(build_nodes, argv)
+    return run_nodes(build_nodes, argv, role="planner_server")
 
 
 if __name__ == "__main__":

@@ -8,13 +8,13 @@ navigation fails becomes a MissedWaypoint (index, pose, NavigateToPose error_cod
 ``stop_on_failure`` the goal aborts with STOP_ON_MISSED_WAYPOINT (603), otherwise the follower goes
 on and succeeds with the missed list. Cancel cancels the running navigation.
 
-The execute callback blocks one executor thread (as the other servers' goals do) and polls its
-futures every ``1 / loop_rate`` s (wall clock).
+The execute callback is a coroutine: it awaits its futures, looking at them (and at a cancel)
+every ``1 / loop_rate`` s of node time, so the executor thread keeps serving meanwhile. Waits for
+the navigator to appear or acknowledge are bounded by SERVER_WAIT s of wall time (a safety net).
 """
 
 from __future__ import annotations
 
-import threading
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -23,14 +23,15 @@ from typing import Any
 from action_msgs.msg import GoalStatus
 from nav2_msgs.action import FollowWaypoints, NavigateToPose
 from nav2_msgs.msg import MissedWaypoint
-from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.action import ActionClient, CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run
 from nav_stack.ros.params import declare_dataclass
+from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.waiting import sleep
 
 Result = FollowWaypoints.Result
 SERVER_WAIT = 5.0  # s (wall) to wait for navigate_to_pose to appear or acknowledge a goal
@@ -77,10 +78,9 @@ class WaypointFollower(NavLifecycleNode):
     def configure(self) -> None:
         self.params = declare_dataclass(self, WaypointFollowerParams)
         self.wait_params = declare_dataclass(self, WaitAtWaypointParams, "wait_at_waypoint.")
-        self._nav = ActionClient(self, NavigateToPose, "navigate_to_pose",
-                                 callback_group=MutuallyExclusiveCallbackGroup())
+        self._nav = ActionClient(self, NavigateToPose, "navigate_to_pose")
         self._server = ActionServer(
-            self, FollowWaypoints, "follow_waypoints", self._execute, callback_group=ReentrantCallbackGroup(),
+            self, FollowWaypoints, "follow_waypoints", self._execute,
             goal_callback=lambda _goal: GoalResponse.ACCEPT if self._active else GoalResponse.REJECT,
             cancel_callback=lambda _handle: CancelResponse.ACCEPT,
             result_timeout=int(self.params.action_server_result_timeout))
@@ -98,54 +98,52 @@ class WaypointFollower(NavLifecycleNode):
             self._server = None
 
     # -- execution ---------------------------------------------------------------------------------
-    def _poll(self, handle: Any, done: Any, timeout: float | None = None) -> bool:
-        """Wait until ``done()`` (True) or ``timeout`` s (False).
+    async def _poll(self, handle: Any, done: Any, timeout: float | None = None) -> bool:
+        """Wait until ``done()`` (True) or ``timeout`` s of wall time (False).
 
         Raises:
             CanceledError: the goal was canceled, or the node deactivated, while waiting.
         """
-        event = threading.Event()
         deadline = None if timeout is None else time.monotonic() + timeout
         while not done():
             if handle.is_cancel_requested or not self._active or not self.context.ok():
                 raise CanceledError
             if deadline is not None and time.monotonic() > deadline:
                 return False
-            event.wait(1.0 / self.params.loop_rate)
+            await sleep(self, 1.0 / self.params.loop_rate)
         return True
 
-    def _navigate(self, handle: Any, pose: Any) -> tuple[bool, int, str]:
+    async def _navigate(self, handle: Any, pose: Any) -> tuple[bool, int, str]:
         """Navigate to ``pose``: (reached, error_code, error_msg)."""
-        if not self._poll(handle, self._nav.server_is_ready, SERVER_WAIT):
+        if not await self._poll(handle, self._nav.server_is_ready, SERVER_WAIT):
             return False, Result.UNKNOWN, "navigate_to_pose is not available"
         sent = self._nav.send_goal_async(NavigateToPose.Goal(pose=pose))
-        if not self._poll(handle, sent.done, SERVER_WAIT):
+        if not await self._poll(handle, sent.done, SERVER_WAIT):
             return False, Result.UNKNOWN, "navigate_to_pose did not acknowledge the goal"
         nav_handle = sent.result()
         if not nav_handle.accepted:
             return False, Result.UNKNOWN, "navigate_to_pose rejected the goal"
         outcome = nav_handle.get_result_async()
         try:
-            self._poll(handle, outcome.done)
+            await self._poll(handle, outcome.done)
         except CanceledError:
             cancel = nav_handle.cancel_goal_async()
-            event = threading.Event()
             deadline = time.monotonic() + SERVER_WAIT
             while not (cancel.done() and outcome.done()) and time.monotonic() < deadline:
-                event.wait(1.0 / self.params.loop_rate)
+                await sleep(self, 1.0 / self.params.loop_rate)
             raise
         response = outcome.result()
         reached = response.status == GoalStatus.STATUS_SUCCEEDED
         return reached, int(response.result.error_code), str(response.result.error_msg)
 
-    def _pause(self, handle: Any) -> None:
+    async def _pause(self, handle: Any) -> None:
         if not self.wait_params.enabled or self.wait_params.waypoint_pause_duration <= 0:
             return
         clock = self.get_clock()
         until = clock.now().nanoseconds + self.wait_params.waypoint_pause_duration * 1_000_000
-        self._poll(handle, lambda: clock.now().nanoseconds >= until)
+        await self._poll(handle, lambda: clock.now().nanoseconds >= until)
 
-    def _execute(self, handle: Any) -> Any:
+    async def _execute(self, handle: Any) -> Any:
         goal = handle.request
         result = Result()
         poses = list(goal.poses)
@@ -160,10 +158,10 @@ class WaypointFollower(NavLifecycleNode):
             for loop in range(int(goal.number_of_loops) + 1):
                 for index in range(start if loop == 0 else 0, len(poses)):
                     handle.publish_feedback(FollowWaypoints.Feedback(current_waypoint=index))
-                    reached, code, message = self._navigate(handle, poses[index])
+                    reached, code, message = await self._navigate(handle, poses[index])
                     if reached:
                         self.get_logger().info(f"Succeeded processing waypoint {index}")
-                        self._pause(handle)
+                        await self._pause(handle)
                         continue
                     self.get_logger().warn(f"Failed to process waypoint {index}: {message or code}")
                     missed = MissedWaypoint(index=index, goal=poses[index], error_code=code)
@@ -194,7 +192,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m nav_stack.ros.waypoint_follower [--autostart] [--ros-args ...]``."""
-    return run(build_nodes, argv)
+    return run(build_nodes, argv, role="waypoint_follower")
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 """A bt_navigator (or waypoint_follower) under test, the scripted FakeNav2 and a client node, spun
-by one MultiThreadedExecutor in a background thread; lifecycle transitions from the test thread."""
+by the production executor (one thread, in the background); lifecycle transitions from the test thread."""
 
 from __future__ import annotations
 
@@ -9,10 +9,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from rclpy.action import ActionClient
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import spin_until_shutdown
 from tests.helpers.nav_ros_bt_fakes import FakeNav2
 from tests.helpers.ros import wait_until
 
@@ -28,7 +29,7 @@ class Rig:
     node: Any
     fake: FakeNav2
     client: Node
-    executor: MultiThreadedExecutor
+    executor: Any
     thread: threading.Thread
     feedback: list[Any] = field(default_factory=list)
 
@@ -62,10 +63,10 @@ def start_rig(context: Any, make_node: Callable[..., Any], **fake_kwargs: Any) -
     fake = FakeNav2(context=context, **fake_kwargs)
     node = make_node(context=context)
     client = Node("test_client", context=context)
-    executor = MultiThreadedExecutor(num_threads=8, context=context)
+    executor = make_executor(context=context)
     for each in (fake, node, client):
         executor.add_node(each)
-    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread = threading.Thread(target=spin_until_shutdown, args=(executor, "bt rig"), daemon=True)
     thread.start()
     rig = Rig(node, fake, client, executor, thread)
     node.trigger_configure()

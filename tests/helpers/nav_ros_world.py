@@ -10,7 +10,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import math
 import os
 import subprocess
@@ -23,7 +22,6 @@ from typing import Any
 import numpy as np
 import yaml
 from nav_msgs.msg import OccupancyGrid, Odometry
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt32
@@ -31,6 +29,8 @@ from std_srvs.srv import Empty, SetBool
 
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
+from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import spin_until_shutdown
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
 from tests.helpers.ros import REPO, start_python, stop_process, wait_until
@@ -140,18 +140,18 @@ class WorldNode(Node):
 
 
 class Harness:
-    """Nodes spun by one MultiThreadedExecutor in a background thread; ``close()`` in ``finally``."""
+    """Nodes spun in a background thread by the executor production uses (one thread, the
+    EventsExecutor unless NAVSUITE_EXECUTOR says otherwise); ``close()`` in ``finally``."""
 
-    def __init__(self, context: Any, threads: int = 12) -> None:
+    def __init__(self, context: Any) -> None:
         self.context = context
-        self.executor = MultiThreadedExecutor(num_threads=threads, context=context)
+        self.executor = make_executor(context=context)
         self.nodes: list[Node] = []
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
     def _spin(self) -> None:
-        with contextlib.suppress(Exception):  # the context shut down under the executor at teardown
-            self.executor.spin()
+        spin_until_shutdown(self.executor, "test harness")
 
     def add(self, *nodes: Node) -> None:
         for node in nodes:

@@ -1,9 +1,9 @@
-"""What the ROS-backed BT leaves share: the node, one callback group, cached clients, TF and failures.
+"""What the ROS-backed BT leaves share: the node, cached clients, TF and failures.
 
-Why one callback group: rclpy registers a goal request's future only after the request has left,
-so a response handled by another executor thread in between is dropped ("unexpected goal
-response"). The bt_navigator ticks its tree from a timer in this mutually exclusive group and every
-leaf's client lives in it too, so sending and receiving never interleave.
+One thread: the bt_navigator ticks its tree from a timer on the same single-threaded executor
+that receives every leaf's responses. rclpy registers a goal request's future only after the
+request has left, and a response handled by another thread in between would be dropped
+("unexpected goal response"); with one thread sending and receiving never interleave.
 
 Why cached clients: a new DDS client needs discovery (hundreds of ms) before its server is seen;
 trees are rebuilt per goal, their clients are not.
@@ -21,7 +21,6 @@ from dataclasses import dataclass
 from typing import Any
 
 from rclpy.action import ActionClient
-from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from rclpy.client import Client
 from rclpy.node import Node
 
@@ -55,12 +54,11 @@ def code_name(result_type: Any, code: int) -> str:
 class BtRosContext:
     """Collaborators injected into every ROS-backed leaf (``factory.register(..., ros=ctx)``)."""
 
-    def __init__(self, node: Node, frames: Frames | None = None, group: CallbackGroup | None = None,
+    def __init__(self, node: Node, frames: Frames | None = None,
                  wall_clock: Callable[[], float] | None = None) -> None:
         import time
 
         self.node = node
-        self.group = group or MutuallyExclusiveCallbackGroup()
         self.frames = frames
         self.wall_clock = wall_clock or time.monotonic
         self._actions: dict[tuple[type, str], ActionClient] = {}
@@ -76,7 +74,7 @@ class BtRosContext:
         key = (action_type, name)
         with self._lock:
             if key not in self._actions:
-                self._actions[key] = ActionClient(self.node, action_type, name, callback_group=self.group)
+                self._actions[key] = ActionClient(self.node, action_type, name)
             return self._actions[key]
 
     def service_client(self, srv_type: type, name: str) -> Client:
@@ -84,7 +82,7 @@ class BtRosContext:
         key = (srv_type, name)
         with self._lock:
             if key not in self._services:
-                self._services[key] = self.node.create_client(srv_type, name, callback_group=self.group)
+                self._services[key] = self.node.create_client(srv_type, name)
             return self._services[key]
 
     # -- failures ------------------------------------------------------------------------------

@@ -60,7 +60,7 @@ class Behaviors:
         self.world.reset_sim()
         self.harness.bring_up(self.costmap)
         self.harness.bring_up(self.server)
-        assert self.costmap.wait_until_ready(40.0), "local costmap never updated"
+        wait_until(self.costmap.ready.done, 40.0, "local costmap never updated")
         wait_until(lambda: self.server._grid is not None and self.server._footprint_msg is not None, 20.0,
                    "the local costmap and footprint at the behavior server")
 

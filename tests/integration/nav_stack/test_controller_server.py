@@ -67,8 +67,8 @@ class Stack:
         self.world.reset_sim()
         self.harness.bring_up(self.planner_nodes[0])
         self.harness.bring_up(self.controller_nodes[0])
-        assert self.planner_nodes[1].wait_until_ready(40.0), "global costmap never updated"
-        assert self.controller_nodes[1].wait_until_ready(40.0), "local costmap never updated"
+        wait_until(self.planner_nodes[1].ready.done, 40.0, "global costmap never updated")
+        wait_until(self.controller_nodes[1].ready.done, 40.0, "local costmap never updated")
 
     def plan(self, x: float, y: float, yaw: float = 0.0) -> Path:
         goal = PoseStamped()

@@ -63,7 +63,7 @@ def costmaps(
         world.reset_sim()
         for node in (global_costmap, local_costmap):
             harness.bring_up(node)
-            assert node.wait_until_ready(40.0), f"{node.get_name()} never updated"
+            wait_until(node.ready.done, 40.0, f"{node.get_name()} never updated")
         probe.world = world  # type: ignore[attr-defined]
         yield probe, global_costmap, local_costmap
     finally:

@@ -63,7 +63,7 @@ def planner(ros_context: Any, sim: subprocess.Popen[str]) -> Iterator[tuple[Node
         wait_until(lambda: world.truth is not None, 20.0, "sim2d ground truth")
         world.reset_sim()
         harness.bring_up(nodes[0])
-        assert nodes[1].wait_until_ready(40.0), "global costmap never updated"
+        wait_until(nodes[1].ready.done, 40.0, "global costmap never updated")
         yield probe, nodes[0], world, ActionClient(probe, ComputePathToPose, "compute_path_to_pose")
     finally:
         harness.close()
