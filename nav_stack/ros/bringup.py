@@ -1,24 +1,31 @@
 """nav-bringup: the simulator and the whole Nav2-style stack in one command (instead of the seeds' terminals).
 
     nav-bringup [--world turtlebot3_world] [--robot waffle] [--map maps/turtlebot3_world.yaml]
-                [--params config/nav2_params.yaml] [--rtf 1.0] [--no-sim] [--single-process]
+                [--params config/nav2_params.yaml] [--rtf 1.0] [--no-sim] [--isolated]
+                [--no-lockstep] [--executor events|single]
                 [--no-initial-pose] [--x -2.0 --y -0.5 --yaw 0.0]
 
 Processes, started in order by ros_tools.launch.Launcher, each waiting for the previous one's
 readiness line (all with use_sim_time true; sim2d publishes /clock):
 
 1. ``sim2d`` (python -m sim2d.ros.cli) — ready when it logs its first status line;
-2. ``localization``: map_server, amcl, lifecycle_manager_localization — ready when its manager is active;
+2. ``nav2``: every Nav2 node in one process on one executor, as Nav2's ``use_composition``:
+   map_server, amcl, lifecycle_manager_localization, planner_server + global_costmap,
+   controller_server + local_costmap, behavior_server, bt_navigator, waypoint_follower,
+   lifecycle_manager_navigation — ready when both managers are active;
 3. ``initial_pose`` (amcl_init_pose_publisher): publishes the seeds' initial pose until AMCL
-   confirms it, then exits (not required: its exit does not end the launch);
-4. ``navigation``: planner_server + global_costmap, controller_server + local_costmap,
-   behavior_server, bt_navigator, waypoint_follower, lifecycle_manager_navigation.
+   confirms it, then exits (not required: its exit does not end the launch).
 
-Then it prints exactly ``Nav2 is ready``. A process that dies ends the launch with its exit code;
-Ctrl-C stops everything in reverse order. ``--single-process`` runs every nav node (2 and 4) in
-one process on a MultiThreadedExecutor (the simulator stays a separate process: nav_stack never
-imports sim2d). ``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
-those node processes.
+``--isolated`` runs localization and navigation as two processes instead (``localization`` before
+``initial_pose``, then ``navigation``). Then it prints exactly ``Nav2 is ready``. A process that
+dies ends the launch with its exit code; Ctrl-C stops everything in reverse order. The simulator
+stays a separate process (nav_stack never imports sim2d).
+
+Lockstep (default; ``--no-lockstep`` turns it off): sim2d waits for the node processes (roles
+``nav2``, or ``localization`` and ``navigation``) before its first step and never runs more than
+one control period ahead of them, so ``--rtf`` is an upper bound and the outcome does not depend on
+the machine's load. ``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
+the node processes.
 """
 
 from __future__ import annotations
@@ -30,11 +37,12 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ros_tools.runtime.executor import add_executor_argument
+
 REPO = Path(__file__).resolve().parents[2]
 DEFAULT_PARAMS = REPO / "config" / "nav2_params.yaml"
 READY_LINE = "Nav2 is ready"
 COMPONENT_READY = "bringup: component {name} is active"
-EXECUTOR_THREADS = 16
 COMPONENTS = ("localization", "navigation", "all")
 
 
@@ -72,48 +80,46 @@ def _navigation_nodes(kwargs: dict[str, Any]) -> list[Any]:
     return nodes
 
 
-def run_component(name: str, params: str, map_yaml: str | None) -> int:
-    """Build the nodes of component ``name``, spin them, print COMPONENT_READY once managers are active."""
-    import rclpy
+def run_component(name: str, params: str, map_yaml: str | None, executor: str | None = None) -> int:
+    """Run the nodes of component ``name`` in this process; print COMPONENT_READY once its managers
+    are active. The process is a lockstep participant named after the component, and holds the
+    simulator until then (the stack's bringup takes the same sim time however slow the machine)."""
     from rclpy.clock import Clock, ClockType
-    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, SingleThreadedExecutor
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from nav_stack.ros.lifecycle_manager import LifecycleManager
-    from ros_tools.shared_clock import share_sim_time
+    from ros_tools.runtime.runner import run_nodes
 
-    rclpy.init(args=["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"])
-    nodes: list[Any] = []
-    try:
-        kwargs: dict[str, Any] = {}
+    managers: list[Any] = []
+
+    def build() -> list[Any]:
+        nodes: list[Any] = []
         if name in ("localization", "all"):
-            nodes += _localization_nodes(kwargs, map_yaml)
+            nodes += _localization_nodes({}, map_yaml)
         if name in ("navigation", "all"):
-            nodes += _navigation_nodes(kwargs)
-        managers = [node for node in nodes if isinstance(node, LifecycleManager)]
-        share_sim_time(nodes)
-        # Localization never blocks in a callback: one thread, no thread-pool hand-off per message.
-        executor = (SingleThreadedExecutor() if name == "localization"
-                    else MultiThreadedExecutor(num_threads=EXECUTOR_THREADS))
-        for node in nodes:
-            executor.add_node(node)
-        announced = False
+            nodes += _navigation_nodes({})
+        managers.extend(node for node in nodes if isinstance(node, LifecycleManager))
+        return nodes
 
+    def active() -> bool:
+        return all(manager.system_active for manager in managers)
+
+    def announce_when_active(_executor: Any, nodes: Any) -> None:
         def announce() -> None:
-            nonlocal announced
-            if not announced and all(m.system_active for m in managers):
-                announced = True
+            if active():
                 print(COMPONENT_READY.format(name=name), flush=True)
+                managers[0].destroy_timer(timer)
 
-        managers[0].create_timer(0.2, announce, clock=Clock(clock_type=ClockType.STEADY_TIME))
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        for node in nodes:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+        timer = managers[0].create_timer(0.2, announce, clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    rclpy_args = ["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"]
+    return run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
+                     ready=active, on_start=announce_when_active)
+
+
+def component_role(name: str) -> str:
+    """The lockstep role (and launch name) of a component process: ``all`` runs as ``nav2``."""
+    return "nav2" if name == "all" else name
 
 
 # ------------------------------------------------------------------ launch
@@ -132,7 +138,14 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-sim", action="store_true", help="only the stack (a sim runs elsewhere)")
     parser.add_argument("--slam", action="store_true",
                         help="map with SLAM (slam + map_saver) instead of map_server + AMCL")
-    parser.add_argument("--single-process", action="store_true", help="all nav nodes in one process")
+    parser.add_argument("--isolated", action="store_true",
+                        help="localization and navigation as two processes (default: one)")
+    parser.add_argument("--no-lockstep", dest="lockstep", action="store_false", default=True,
+                        help="let the simulator run by the wall clock alone (default: lockstep)")
+    parser.add_argument("--participant", action="append", default=[], metavar="ROLE",
+                        help="one more lockstep role the simulator waits for before its first step "
+                             "(e.g. a state machine's name); repeatable")
+    add_executor_argument(parser)
     parser.add_argument("--initial-pose", dest="initial_pose", action="store_true", default=True,
                         help="publish the initial pose until AMCL confirms it (default)")
     parser.add_argument("--no-initial-pose", dest="initial_pose", action="store_false")
@@ -144,8 +157,8 @@ def _parser() -> argparse.ArgumentParser:
 def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
     if args.slam and args.map is not None:
         parser.error("--slam builds its own map: drop --map (or drop --slam to localize on a map)")
-    if args.slam and args.single_process:
-        parser.error("--slam runs as separate processes: drop --single-process")
+    if args.slam and args.isolated:
+        parser.error("--slam always runs its nodes as separate processes: drop --isolated")
     if not Path(args.params).is_file():
         parser.error(f"--params: no such file: {args.params}")
     if args.map is not None and not Path(args.map).is_file():
@@ -167,15 +180,18 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     params = str(Path(args.params).resolve())
     map_args = ["--map", str(Path(args.map).resolve())] if args.map else []
     specs: list[ProcessSpec] = []
+    components = ["navigation"] if args.slam else ["localization", "navigation"] if args.isolated else ["all"]
     if not args.no_sim:
+        roles = [component_role(c) for c in components] + list(args.participant)
+        lockstep = ["--lockstep-participants", ",".join(roles)] if args.lockstep else []
         specs.append(ProcessSpec("sim2d", _python_module(
             "sim2d.ros.cli", "--world", args.world, "--robot", args.robot, "--rtf", args.rtf,
-            "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw),
+            "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw), *lockstep,
             *(["--params-file", str(Path(args.sim_params).resolve())] if args.sim_params else [])),
             ready=r"sim2d", ready_timeout=60.0))
 
     def component(name: str) -> ProcessSpec:
-        return ProcessSpec(name if name != "all" else "nav2", _python_module(
+        return ProcessSpec(component_role(name), _python_module(
             "nav_stack.ros.bringup", "component", name, "--params", params, *map_args),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout)
 
@@ -189,16 +205,19 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
         start = f"map_start_pose:=[{args.x}, {args.y}, {args.yaw}]"  # SLAM's map frame = the world's
         specs.extend(slam_processes(params, extra_ros_args=["-p", start], ready_timeout=args.ready_timeout))
         specs.append(component("navigation"))
-    elif args.single_process:
-        if args.initial_pose:
-            initial_pose.ready = None  # AMCL starts in the same process as the navigation nodes
-            specs.append(initial_pose)
-        specs.append(component("all"))
-    else:
+    elif args.isolated:
         specs.append(component("localization"))
         if args.initial_pose:
             specs.append(initial_pose)
         specs.append(component("navigation"))
+    else:
+        if args.initial_pose:
+            initial_pose.ready = None  # AMCL starts in the same process as the navigation nodes
+            specs.append(initial_pose)
+        specs.append(component("all"))
+    if args.executor:
+        for spec in specs:
+            spec.env["NAVSUITE_EXECUTOR"] = args.executor
     return specs
 
 
@@ -243,8 +262,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sub.add_argument("name", choices=COMPONENTS)
         sub.add_argument("--params", default=str(DEFAULT_PARAMS))
         sub.add_argument("--map", default=None)
+        add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
-        return run_component(opts.name, opts.params, opts.map)
+        return run_component(opts.name, opts.params, opts.map, opts.executor)
     parser = _parser()
     args = parser.parse_args(argv)
     _validate(args, parser)

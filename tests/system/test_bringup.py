@@ -16,14 +16,25 @@ def _specs(*argv: str) -> list:
     return bringup.process_specs(bringup._parser().parse_args(list(argv)))
 
 
-def test_default_launch_starts_sim_localization_initial_pose_then_navigation():
+def test_default_launch_is_one_nav2_process_in_lockstep_with_the_sim():
     specs = _specs("--rtf", "2")
-    assert [s.name for s in specs] == ["sim2d", "localization", "initial_pose", "navigation"]
+    assert [s.name for s in specs] == ["sim2d", "initial_pose", "nav2"]
     sim = specs[0].cmd
     assert sim[sim.index("--rtf") + 1] == "2" and sim[sim.index("--x") + 1] == "-2.0"
+    assert sim[sim.index("--lockstep-participants") + 1] == "nav2"
+    assert specs[2].ready == "bringup: component all is active"
+    assert specs[1].required is False and "use_sim_time:=true" in specs[1].cmd
+
+
+def test_isolated_launch_starts_sim_localization_initial_pose_then_navigation():
+    specs = _specs("--isolated", "--executor", "single")
+    assert [s.name for s in specs] == ["sim2d", "localization", "initial_pose", "navigation"]
+    sim = specs[0].cmd
+    assert sim[sim.index("--lockstep-participants") + 1] == "localization,navigation"
     assert specs[1].ready == "bringup: component localization is active"
     assert specs[2].required is False and "AMCL confirmed" in specs[2].ready
-    assert "use_sim_time:=true" in specs[2].cmd
+    assert all(spec.env["NAVSUITE_EXECUTOR"] == "single" for spec in specs)
+    assert "--lockstep-participants" not in _specs("--no-lockstep")[0].cmd
 
 
 def test_slam_mode_runs_slam_and_map_saver_instead_of_map_server_and_amcl():
@@ -32,14 +43,15 @@ def test_slam_mode_runs_slam_and_map_saver_instead_of_map_server_and_amcl():
     assert "map_start_pose:=[-2.0, -0.5, 0.0]" in specs[1].cmd
 
 
-def test_single_process_and_no_sim_variants():
-    assert [s.name for s in _specs("--single-process")] == ["sim2d", "initial_pose", "nav2"]
-    assert [s.name for s in _specs("--no-sim", "--no-initial-pose")] == ["localization", "navigation"]
+def test_no_sim_variants():
+    assert [s.name for s in _specs("--no-sim", "--no-initial-pose")] == ["nav2"]
+    isolated = _specs("--no-sim", "--no-initial-pose", "--isolated")
+    assert [s.name for s in isolated] == ["localization", "navigation"]
 
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["--slam", "--map", "maps/turtlebot3_world.yaml"], "--slam builds its own map"),
-    (["--slam", "--single-process"], "--slam runs as separate processes"),
+    (["--slam", "--isolated"], "--slam always runs its nodes as separate processes"),
     (["--params", "/nonexistent.yaml"], "--params: no such file"),
     (["--rtf", "fast"], "--rtf must be a positive number"),
 ])
@@ -53,7 +65,7 @@ def test_bad_options_exit_2_with_a_clear_message(argv, message, capsys):
 @pytest.mark.ros
 @pytest.mark.slow
 def test_bringup_exits_non_zero_when_the_simulator_is_killed():
-    stack = Bringup("--single-process")
+    stack = Bringup()
     try:
         stack.wait_for_line(READY, timeout=240.0)
         sims = [pid for pid in child_pids(stack.proc.pid) if "sim2d.ros.cli" in cmdline(pid)]
