@@ -1,10 +1,14 @@
 """Client behaviors: state-lifetime objects that make an orthogonal's client do something.
 
-* ``SmaccClientBehavior`` (sync): ``on_entry``/``on_exit`` run on the machine thread and must not block.
+* ``SmaccClientBehavior`` (sync): ``on_entry``/``on_exit`` run on the machine thread (under the ROS
+  runtime: the executor thread, which also runs every ROS callback) and must return at once: no
+  sleep, no wait on a future or an event. Timing comes from node-clock timers or ISmaccUpdatable.
 * ``SmaccAsyncClientBehavior``: ``on_entry`` runs in its own thread; when it returns ``EvCbFinished`` is
   posted automatically. On state exit the engine sets the shutdown flag (``is_shutdown_requested``),
   waits at most ``join_timeout_s`` (s) for ``on_entry`` to return, logs an error if it did not, and
   continues, so a behavior that never checks the flag cannot wedge the transition (SMACC2 #530).
+  That join holds the machine thread (the executor, under the ROS runtime) while ``on_entry``
+  finishes: check ``is_shutdown_requested()`` often, or wait with ``wait_for_shutdown``.
 
 Every event a behavior posts has CURRENT_STATE lifetime: it carries the sequence number of the state
 instance that owns the behavior and is dropped once that instance has begun to exit.
@@ -47,10 +51,10 @@ class ISmaccClientBehavior:
         """Called after the state's ``runtime_configure`` and before any ``on_entry``."""
 
     def on_entry(self) -> None:
-        """Start the work. Sync behaviors must return quickly."""
+        """Start the work. Sync behaviors must return at once (they run on the machine thread)."""
 
     def on_exit(self) -> None:
-        """Clean up when the owning state exits (runs on the machine thread)."""
+        """Clean up when the owning state exits (runs on the machine thread; must not block)."""
 
     # ------------------------------------------------------------------ helpers
     def get_current_state(self) -> SmaccState:

@@ -1,11 +1,12 @@
 """Observer interface and transition records: what the ROS runtime needs for introspection.
 
-The engine calls observers synchronously: ``on_event_posted`` on the posting thread, everything else on
-the machine thread, in order. Observers must be quick (queue the work and publish elsewhere) and must
-not post events from ``on_transition`` or the exit/entry callbacks. Exceptions they raise are logged
-and ignored. ``TransitionRecord`` carries the fields of ``smacc2_msgs/SmaccTransitionLogEntry``; treat
-it as read-only (it is not frozen only because a frozen dataclass is slow to build, and one is built
-per transition on the hot path).
+The engine calls observers synchronously: ``on_event_posted`` on the posting thread (an async
+behavior's thread, say), everything else on the machine thread (the ROS runtime's executor), in
+order. Observers must be quick (queue the work and publish elsewhere) and must not post events from
+``on_transition`` or the exit/entry callbacks. Exceptions they raise are logged and ignored.
+``TransitionRecord`` carries the fields of ``smacc2_msgs/SmaccTransitionLogEntry``; treat it as
+read-only (it is not frozen only because a frozen dataclass is slow to build, and one is built per
+transition on the hot path).
 """
 
 from __future__ import annotations

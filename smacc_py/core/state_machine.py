@@ -16,9 +16,18 @@ the orthogonals, clients and components (and their substitutes) once before the 
 ``StateMachineQueries`` (``state_machine_queries.py``) answers read-only lookups (active states,
 orthogonals, clients, components, blackboard reads, ``describe``).
 
-Two ways to run it: synchronously (``start()``, ``post_event()``, ``process_events()``: no threads, for
-unit tests) or with a worker thread (``start(threaded=True)``) for the ROS runtime, which also calls
-``update()`` at ``signal_detector_loop_freq`` and may inject a clock (``now``) so sim time works.
+Two ways to run it:
+
+* synchronously (``start()``, ``post_event()``, ``process_events()``): the caller's thread dispatches.
+  Unit tests drive it by hand; the ROS runtime dispatches on its executor thread, so every callback,
+  transition and hook of a machine runs on one thread, in an order that does not depend on machine
+  load. ``post_event`` is safe from any thread (async behaviors post from their own): the queue and
+  the reactor notification are guarded by one lock, and the callback given to ``set_wake_callback``
+  (the runtime's "schedule a dispatch on the executor") is called after each post.
+* with a worker thread (``start(threaded=True)``) that dispatches as events arrive.
+
+A runtime also calls ``update()`` at ``signal_detector_loop_freq`` and may inject a clock (``now``) so
+sim time works.
 """
 
 from __future__ import annotations
@@ -95,6 +104,8 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
         self._worker: threading.Thread | None = None
         self._stop_requested = False
         self._wake_needed = False  # True while a worker or run_until() waits for posts
+        self._wake_callback: Callable[[], None] | None = None  # called after each post
+        self._dispatch_thread: int | None = None  # the thread inside _drain: it must not re-enter it
         self.global_data = GlobalData()
         self.transition_log: deque[TransitionRecord] = deque(maxlen=self.params.transition_log_size)
 
@@ -150,20 +161,32 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
         if owner_seq is not None and owner_seq not in self._active_seqs:
             self._dropped(event)
             return
-        reactors = self._reactors
-        if reactors:
-            with self._post_lock:
-                for reactor in reactors:
-                    if isinstance(event, reactor.input_events):
-                        try:
-                            reactor._notify(event)
-                        except Exception:
-                            _log.exception("%s.on_event_notified raised; skipped", type(reactor).__name__)
-        self._queue.append((event, owner_seq))
+        with self._post_lock:  # reactors see events in the order the queue holds them
+            for reactor in self._reactors:
+                if isinstance(event, reactor.input_events):
+                    try:
+                        reactor._notify(event)
+                    except Exception:
+                        _log.exception("%s.on_event_notified raised; skipped", type(reactor).__name__)
+            self._queue.append((event, owner_seq))
         if self._observers:
             self._notify("on_event_posted", event)
         if self._wake_needed:
             self._wake.set()
+        wake = self._wake_callback
+        if wake is not None:
+            try:
+                wake()
+            except Exception:
+                _log.exception("%s: the wake callback raised; the event stays queued", self.name)
+
+    def set_wake_callback(self, callback: Callable[[], None] | None) -> None:
+        """Call ``callback()`` after every post, on the posting thread (None: stop calling).
+
+        For a runtime that dispatches synchronously on a thread of its own (the ROS runtime's executor):
+        the callback schedules ``process_events()`` there. It must be quick and must not dispatch itself.
+        """
+        self._wake_callback = callback
 
     def process_events(self, max_events: int | None = None) -> int:
         """Dispatch queued events (and those they cause) until the queue is empty; returns the count.
@@ -174,6 +197,9 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
             raise SmaccError(f"{self.name}: process_events() is not allowed while the worker thread runs")
         if not self._running:
             raise SmaccError(f"{self.name}: start() the machine before processing events")
+        if self._dispatch_thread == threading.get_ident():
+            raise SmaccError(f"{self.name}: process_events() called from inside a dispatch (a hook or an "
+                             "observer); post the event instead, the running dispatch will handle it")
         return self._drain(max_events)
 
     def run_until(self, predicate: Callable[[], bool], timeout_s: float) -> bool:
@@ -195,40 +221,46 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
             self._wake_needed = False
 
     def _drain(self, max_events: int | None) -> int:
+        with self._sm_lock:
+            self._dispatch_thread = threading.get_ident()
+            try:
+                return self._dispatch_queued(max_events)
+            finally:
+                self._dispatch_thread = None
+
+    def _dispatch_queued(self, max_events: int | None) -> int:
         queue = self._queue
         popleft = queue.popleft
         active = self._active_seqs
         count = 0
-        with self._sm_lock:
-            while queue:
-                if max_events is not None and count >= max_events:
-                    break
-                event, seq = popleft()
-                count += 1
-                if seq is not None and seq not in active:
-                    self._dropped(event)
-                    continue
-                event_type = type(event)
-                plans = self._table.get(event_type)
-                if plans is None:
-                    plans = self.model.candidates(type(self._stack[-1]), event_type)
-                    self._table[event_type] = plans
-                for plan in plans:
-                    guard = plan.guard
-                    if guard is not None:
-                        try:
-                            if not guard(event):
-                                continue
-                        except Exception:
-                            _log.exception("guard of %r raised on %r; treated as "
-                                           "false", plan.transition, event)
+        while queue:
+            if max_events is not None and count >= max_events:
+                break
+            event, seq = popleft()
+            count += 1
+            if seq is not None and seq not in active:
+                self._dropped(event)
+                continue
+            event_type = type(event)
+            plans = self._table.get(event_type)
+            if plans is None:
+                plans = self.model.candidates(type(self._stack[-1]), event_type)
+                self._table[event_type] = plans
+            for plan in plans:
+                guard = plan.guard
+                if guard is not None:
+                    try:
+                        if not guard(event):
                             continue
-                    self._transit(plan, event)
-                    break
-                else:
-                    _log.debug("%s: unhandled event %r in %s", self.name, event, self._leaf_name())
-                    if self._observers:
-                        self._notify("on_event_unhandled", event)
+                    except Exception:
+                        _log.exception("guard of %r raised on %r; treated as false", plan.transition, event)
+                        continue
+                self._transit(plan, event)
+                break
+            else:
+                _log.debug("%s: unhandled event %r in %s", self.name, event, self._leaf_name())
+                if self._observers:
+                    self._notify("on_event_unhandled", event)
         return count
 
     # ------------------------------------------------------------------ transitions

@@ -10,6 +10,10 @@ from __future__ import annotations
 
 import math
 
+#: Slack (s) when comparing elapsed time with a period: 0.1 s polled at 20 Hz on a nanosecond clock is
+#: 0.09999999999990905 s between polls now and then, and must still count as a full period.
+PERIOD_SLACK_S = 1e-6
+
 
 class ISmaccUpdatable:
     """Mix-in for objects with periodic work; override ``update()``."""
@@ -18,7 +22,7 @@ class ISmaccUpdatable:
     _last_update_s: float = -math.inf
 
     def update(self) -> None:
-        """Periodic work. Runs on the polling thread; must not block."""
+        """Periodic work. Runs on the polling thread (the ROS runtime's executor thread); must not block."""
 
     def set_update_period(self, period_s: float | None) -> None:
         """Poll at most every ``period_s`` seconds (None: every poll). ValueError when not positive."""
@@ -28,7 +32,7 @@ class ISmaccUpdatable:
 
     def _update_due(self, now_s: float) -> bool:
         period = self.update_period_s
-        if period is not None and now_s - self._last_update_s < period:
+        if period is not None and now_s - self._last_update_s < period - PERIOD_SLACK_S:
             return False
         self._last_update_s = now_s
         return True

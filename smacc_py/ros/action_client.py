@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING, Any
 from action_msgs.msg import GoalStatus
 
 if TYPE_CHECKING:
-    from rclpy.callback_groups import CallbackGroup
     from rclpy.node import Node
 
 _log = logging.getLogger("smacc_py")
@@ -114,16 +113,14 @@ FeedbackCallback = Callable[[GoalTicket, Any], None]
 class RosActionClient:
     """Wraps an rclpy ActionClient; ``send_goal`` never blocks."""
 
-    def __init__(
-        self, node: Node, action_type: Any, action_name: str, callback_group: CallbackGroup | None = None
-    ) -> None:
+    def __init__(self, node: Node, action_type: Any, action_name: str) -> None:
         # Imported here: rclpy.action loads rclpy.node, which importing cl_nav2z (e.g. for unit tests on
         # substitute clients, which never build a RosActionClient) does not need.
         from rclpy.action import ActionClient
 
         self.action_type = action_type
         self.action_name = action_name
-        self._client = ActionClient(node, action_type, action_name, callback_group=callback_group)
+        self._client = ActionClient(node, action_type, action_name)
         self._lock = threading.Lock()
         self._active: list[GoalTicket] = []
 

@@ -2,19 +2,22 @@
 
 The core engine knows nothing about ROS. The runtime attaches one ``RosContext`` to the machine
 before ``initialize()`` (so clients may create publishers in ``on_initialize``); everything below the
-runtime fetches it with ``ros_context(sm)``. The node, its callback group and the shared transform
-listener are injected this way, never created behind the runtime's back (no singleton node).
+runtime fetches it with ``ros_context(sm)``. The node and the shared transform listener are injected
+this way, never created behind the runtime's back (no singleton node).
+
+Every callback of the node runs on the runtime's one executor thread, the same thread that
+dispatches the machine's events, so client callbacks need no callback group and no lock against the
+machine; they must return quickly and never wait (no sleep, no blocking future or event).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from smacc_py.core import SmaccError
 
 if TYPE_CHECKING:
-    from rclpy.callback_groups import CallbackGroup
     from rclpy.node import Node
 
     from ros_tools.tf.ros import TransformListener
@@ -28,21 +31,17 @@ class RosContext:
 
     Attributes:
         node: the machine's node (named after the machine class).
-        callback_group: a reentrant group every client callback should use, so a slow callback never
-            delays another one on the MultiThreadedExecutor.
     """
 
     node: Node
-    callback_group: CallbackGroup
     _tf: TransformListener | None = field(default=None, repr=False)
-    _owned: list[Any] = field(default_factory=list, repr=False)
 
     def tf_listener(self) -> TransformListener:
         """The machine's one TransformListener (created on first use, shared by every CpPose)."""
         if self._tf is None:
             from ros_tools.tf.ros import TransformListener
 
-            self._tf = TransformListener(self.node, callback_group=self.callback_group)
+            self._tf = TransformListener(self.node)
         return self._tf
 
     def now_s(self) -> float:

@@ -21,7 +21,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from builtin_interfaces.msg import Time
-from rclpy.callback_groups import CallbackGroup
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import (
@@ -141,7 +140,6 @@ class IntrospectionPublisher(SmaccObserver):
         sm: SmaccStateMachineBase,
         *,
         release_mode: bool = False,
-        callback_group: CallbackGroup | None = None,
     ) -> None:
         self.node = node
         self.sm = sm
@@ -162,9 +160,8 @@ class IntrospectionPublisher(SmaccObserver):
             SmaccGetTransitionHistory,
             f"{prefix}/transition_log_history",
             self._on_history,
-            callback_group=callback_group,
         )
-        self._timer = node.create_timer(PERIOD_S, self._on_timer, callback_group=callback_group)
+        self._timer = node.create_timer(PERIOD_S, self._on_timer)
         self._pub_description.publish(self._description)
 
     @staticmethod

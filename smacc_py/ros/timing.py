@@ -3,6 +3,8 @@
 ``sleep_on_machine_clock`` returns when the machine clock (the node clock, /clock under
 ``use_sim_time``) has advanced by ``seconds``, or at once when the behavior's state exits. It polls the
 clock every few wall milliseconds, which costs nothing and works whatever the simulation's speed.
+It is for user code in async behaviors only: how late such a thread wakes depends on the machine's
+load, so the shipped behaviors run their loops on the executor (ISmaccUpdatable, node-clock timers).
 """
 
 from __future__ import annotations

@@ -25,8 +25,9 @@ What the world does:
 * keys: ``world.keyboard(sm).press("n")`` is a /keyboard_unicode message.
 
 ``drive(sm, until)`` runs a started machine as the ROS runtime would, on the fake clock: advance,
-poll, dispatch, until ``until()`` holds. While an async behavior's thread runs (CbPureSpinning's control
-loop) it steps 0.1 s and gives that thread a few wall milliseconds per step, else 0.5 s at a time.
+poll, dispatch, until ``until()`` holds. It steps by the shortest ``update_period_s`` of the active
+behaviors (CbPureSpinning's 0.1 s control period), else 0.5 s at a time; while an async behavior's
+thread runs it steps 0.1 s and gives that thread a few wall milliseconds per step.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ from smacc_py.clients.cl_nav2z import (
 from smacc_py.clients.cl_nav2z.client import ACTION_TYPES, NAVIGATE_TO_POSE
 from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
 from smacc_py.clients.cl_ros2_timer import ClRos2Timer
-from smacc_py.core import SmaccAsyncClientBehavior, SmaccStateMachineBase
+from smacc_py.core import ISmaccUpdatable, SmaccAsyncClientBehavior, SmaccStateMachineBase
 from smacc_py.ros.action_client import GoalOutcome
 from tests.helpers.smacc_stand_ins import (
     RecordingPublisher,
@@ -77,7 +78,7 @@ Pose2D = tuple[float, float, float]
 #: turtlebot3_world's map extent (maps/turtlebot3_world.yaml): x_min, y_min, x_max, y_max in m.
 MAP_BOUNDS = (-3.8, -3.9, 5.2, 3.9)
 GOAL_OUTSIDE_MAP = 204
-ASYNC_STEP_S = 0.1  # CbPureSpinning's control period
+ASYNC_STEP_S = 0.1  # clock step while an async behavior's thread runs
 IDLE_STEP_S = 0.5
 THREAD_SLICE_WALL_S = 0.006  # > the 5 ms an async behavior's machine-clock sleep polls at
 
@@ -187,9 +188,11 @@ class ScriptedNav2:
         while not until():
             if self.clock.t >= deadline:
                 return False
-            busy = any(isinstance(b, SmaccAsyncClientBehavior) and not b.is_finished()
-                       for state in sm.active_states() for _, b in state.behaviors)
-            self.clock.t += ASYNC_STEP_S if busy else IDLE_STEP_S
+            behaviors = [b for state in sm.active_states() for _, b in state.behaviors]
+            busy = any(isinstance(b, SmaccAsyncClientBehavior) and not b.is_finished() for b in behaviors)
+            periods = [b.update_period_s for b in behaviors
+                       if isinstance(b, ISmaccUpdatable) and b.update_period_s is not None]
+            self.clock.t += min([*periods, ASYNC_STEP_S if busy else IDLE_STEP_S])
             sm.update()
             if busy:
                 sm.run_until(until, THREAD_SLICE_WALL_S)

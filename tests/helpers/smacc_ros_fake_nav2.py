@@ -12,7 +12,18 @@
   robot integrating /cmd_vel (unless ``frozen``), /odom and TF map→odom→base_link stamped in sim time. Every
   Twist received is kept in ``twists``.
 
-Navigation success teleports the robot to the goal, so TF agrees with what Nav2 reported.
+One thread runs the fake: a SingleThreadedExecutor spun by ``start()``'s thread, with the goals'
+execute callbacks as coroutines that wait for the next world tick (on this rclpy the EventsExecutor
+re-polls a waiting coroutine without pause, half a core per goal, so the fake stays on the Python
+executor). ``stop()`` ends spinning before it shuts the executor down and destroys the servers: a
+Python executor shut down while its thread still runs a callback leaves an "exception was never
+retrieved: cannot use Destroyable" at exit.
+
+Navigation takes sim time, as a robot driving there would: a navigate_to_pose goal that is to succeed
+ends after (distance / ``nav_speed``) s of sim time (at least one tick; cancelled meanwhile, it ends
+CANCELED where it started), then teleports the robot to the goal, so TF agrees with what Nav2
+reported. Instant success would let a fast client finish several legs between two readings of a
+sensor that integrates the motion (the battery of autonomy_fake_stack.py).
 """
 
 from __future__ import annotations
@@ -30,15 +41,16 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, TransformStamped, Twist
 from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
 from nav_msgs.msg import Odometry
 from rclpy.action import ActionServer, CancelResponse
-from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
 TICK_S = 0.01
 START_S = 1000.0
+NAV_SPEED = 1.0  # m/s of sim time a navigate_to_pose goal "drives" at
 AMCL_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
 )
@@ -99,12 +111,14 @@ class FakeNav2:
         clock_rate: float = 10.0,
         frozen: bool = False,
         amcl_echo: bool = True,
+        nav_speed: float = NAV_SPEED,
     ) -> None:
         self.node = Node("fake_nav2", context=context)
         self.scripts = {name: deque(scripts.get(name, ()) if scripts else ()) for name in ACTIONS}
         self.logs = {name: ServerLog() for name in ACTIONS}
         self.bond_nodes = list(bond_nodes)
         self.clock_rate, self.frozen, self.amcl_echo = clock_rate, frozen, amcl_echo
+        self.nav_speed = nav_speed
         self.sim_s = START_S
         self.odom_pose = (0.0, 0.0, 0.0)  # base_link in odom
         self.map_odom = (0.0, 0.0, 0.0)  # odom in map
@@ -112,18 +126,12 @@ class FakeNav2:
         self.twists: list[Twist] = []
         self.initial_poses: list[tuple[float, float, float]] = []
         self._lock = threading.Lock()
-        self._releases: list[threading.Event] = []
-        group = ReentrantCallbackGroup()
+        self._stopping = False
+        self._tick_gate = Future()  # completed (and replaced) by every world tick
         n = self.node
         self._servers = [
-            ActionServer(
-                n,
-                action_type,
-                name,
-                self._executor_for(name),
-                callback_group=group,
-                cancel_callback=self._cancel_for(name),
-            )
+            ActionServer(n, action_type, name, self._executor_for(name),
+                         cancel_callback=self._cancel_for(name))
             for name, action_type in ACTIONS.items()
         ]
         self._clock_pub = n.create_publisher(Clock, "/clock", 10)
@@ -131,13 +139,11 @@ class FakeNav2:
         self._odom_pub = n.create_publisher(Odometry, "/odom", 10)
         self._bond_pub = n.create_publisher(Status, "/bond", 10)
         self._amcl_pub = n.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", AMCL_QOS)
-        n.create_subscription(Twist, "/cmd_vel", self._on_cmd_vel, 100, callback_group=group)
-        n.create_subscription(
-            PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10, callback_group=group
-        )
-        n.create_timer(TICK_S, self._tick, callback_group=group)
-        n.create_timer(0.1, self._heartbeat, callback_group=group)
-        self.executor = MultiThreadedExecutor(num_threads=4, context=context)
+        n.create_subscription(Twist, "/cmd_vel", self._on_cmd_vel, 100)
+        n.create_subscription(PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10)
+        n.create_timer(TICK_S, self._tick)
+        n.create_timer(0.1, self._heartbeat)
+        self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(n)
         self._thread = threading.Thread(target=self._spin, daemon=True)
 
@@ -148,14 +154,13 @@ class FakeNav2:
 
     def _spin(self) -> None:
         with contextlib.suppress(Exception):  # the context may shut down under us at teardown
-            self.executor.spin()
+            while not self._stopping and self.executor.context.ok():
+                self.executor.spin_once(timeout_sec=0.1)
 
     def stop(self) -> None:
-        with self._lock:
-            for release in self._releases:
-                release.set()
-        self.executor.shutdown(timeout_sec=2.0)
+        self._stopping = True  # goals still running are never resumed
         self._thread.join(2.0)
+        self.executor.shutdown()
         for server in self._servers:
             server.destroy()
         self.node.destroy_node()
@@ -179,6 +184,8 @@ class FakeNav2:
                 v, w = self.cmd.linear.x, self.cmd.angular.z
                 self.odom_pose = (x + v * math.cos(yaw) * dt, y + v * math.sin(yaw) * dt, yaw + w * dt)
             stamp, odom, map_odom = self.sim_s, self.odom_pose, self.map_odom
+        gate, self._tick_gate = self._tick_gate, Future()
+        gate.set_result(stamp)
         clock = Clock()
         clock.clock.sec, clock.clock.nanosec = int(stamp), int((stamp % 1.0) * 1e9)
         self._clock_pub.publish(clock)
@@ -214,6 +221,18 @@ class FakeNav2:
         self._amcl_pub.publish(msg)
 
     # ------------------------------------------------------------------ action servers
+    async def _drive(self, goal_handle: Any) -> bool:
+        """Wait (distance / nav_speed) s of sim time for a navigate_to_pose goal; False when cancelled."""
+        target = goal_handle.request.pose.pose.position
+        x, y, _ = self.map_pose()
+        distance = math.hypot(target.x - x, target.y - y)
+        until_s = self.sim_s + max(TICK_S * self.clock_rate, distance / self.nav_speed)
+        while self.sim_s < until_s:
+            if goal_handle.is_cancel_requested:
+                return False
+            await self._tick_gate
+        return True
+
     def _cancel_for(self, name: str) -> Any:
         def cancel(goal_handle: Any) -> CancelResponse:
             with self._lock:
@@ -225,22 +244,21 @@ class FakeNav2:
     def _executor_for(self, name: str) -> Any:
         action_type = ACTIONS[name]
 
-        def execute(goal_handle: Any) -> Any:
+        async def execute(goal_handle: Any) -> Any:
             with self._lock:
                 self.logs[name].goals.append(goal_handle.request)
                 script = self.scripts[name]
                 outcome = script.popleft() if script else "succeeded"
             result = action_type.Result()
             if outcome == "hold":
-                release = threading.Event()
-                with self._lock:
-                    self._releases.append(release)
-                while not goal_handle.is_cancel_requested and not release.is_set():
-                    release.wait(0.01)
+                while not goal_handle.is_cancel_requested:
+                    await self._tick_gate
+                outcome = "canceled"
+            elif outcome == "succeeded" and name == "navigate_to_pose" and not await self._drive(goal_handle):
+                outcome = "canceled"
+            if outcome == "canceled":
                 goal_handle.canceled()
-                self.logs[name].results.append("canceled")
-                return result
-            if outcome == "aborted":
+            elif outcome == "aborted":
                 result.error_code = ABORT_CODES[name]
                 result.error_msg = f"fake {name} aborted as scripted"
                 goal_handle.abort()

@@ -31,8 +31,7 @@ class ClBattery(ISmaccClient):
                              "component (it holds the thresholds)")
         self.monitor = monitor
         ctx = ros_context(self.sm)
-        self._sub = ctx.node.create_subscription(BatteryState, self.topic, self._on_message, 10,
-                                                 callback_group=ctx.callback_group)
+        self._sub = ctx.node.create_subscription(BatteryState, self.topic, self._on_message, 10)
 
     def _on_message(self, msg: BatteryState) -> None:
         reading = self.monitor.update(float(msg.percentage), msg.power_supply_status in CHARGING_STATUSES,

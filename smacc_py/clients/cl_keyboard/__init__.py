@@ -37,9 +37,7 @@ class ClKeyboard(ISmaccClient):
 
     def on_initialize(self) -> None:
         ctx = ros_context(self.sm)
-        self._sub = ctx.node.create_subscription(
-            UInt16, self.topic, self._on_key, 10, callback_group=ctx.callback_group
-        )
+        self._sub = ctx.node.create_subscription(UInt16, self.topic, self._on_key, 10)
 
     def _on_key(self, msg: UInt16) -> None:
         key = key_of(msg.data)

@@ -1,12 +1,18 @@
-"""``CbNav2ZActionBase``: an async behavior that sends one ClNav2Z action goal and reports its end.
+"""``CbNav2ZActionBase``: a behavior that sends one ClNav2Z action goal and reports its end.
 
-``on_entry`` (its own thread) waits up to ``server_wait_s`` (wall s, discovery is wall-clock) for the
-action server, builds the goal (``make_goal`` returns (action key, goal) or None after posting its own
-failure), sends it and returns. The goal's end posts ``EvCbSuccess`` or ``EvCbFailure[Cb, Or]`` with the
+``on_entry`` builds the goal (``make_goal`` returns (action key, goal) or None after posting its own
+failure) and sends it at once when the action server is discovered. Otherwise the runtime's polling
+(ISmaccUpdatable, on the executor thread) sends it as soon as the server appears, or posts
+EvCbFailure once ``server_wait_s`` has passed both on the machine clock and on the wall clock
+(discovery takes wall time; the machine clock keeps the wait at least as long in sim time however
+fast the simulation runs). The goal's end posts ``EvCbSuccess`` or ``EvCbFailure[Cb, Or]`` with the
 ticket's ``error_code``/``error_msg`` as payload (ClNav2Z posts its EvAction* events as well).
 Unlike SMACC2, a goal still running when the state exits is cancelled (and disowned). Behaviors with
 ``record_path`` (global, forward and backward navigation, as in SMACC2) push a new CpOdomTracker path
 and record into it while their goal runs, so CbUndoPathBackwards can undo the motion.
+
+SMACC2's version is an async behavior whose thread waits for the server. This one never waits:
+``on_entry`` returns at once, so the goal leaves at the sim time the state was entered.
 """
 
 from __future__ import annotations
@@ -17,18 +23,19 @@ from typing import Any, TypeVar
 from smacc_py.clients.cl_nav2z.client import ClNav2Z
 from smacc_py.clients.cl_nav2z.cp_odom_tracker import CpOdomTracker
 from smacc_py.clients.cl_nav2z.odom_path import WorkingMode
-from smacc_py.core import SmaccAsyncClientBehavior, SmaccLookupError
-from smacc_py.ros.action_client import GoalOutcome, GoalTicket
+from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior, SmaccLookupError
+from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
 
 C = TypeVar("C")
 
 
-class CbNav2ZActionBase(SmaccAsyncClientBehavior):
+class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
     """Subclasses implement ``make_goal``; optionally ``on_goal_done`` for bookkeeping."""
 
     server_wait_s: float = 10.0
     record_path: bool = False
     ticket: GoalTicket | None = None
+    _waiting: tuple[RosActionClient, str, Any, float, float] | None = None  # action, key, goal, since_s, wall
 
     def make_goal(self) -> tuple[str, Any] | None:
         """(action key, goal message), or None when the behavior already posted a failure."""
@@ -48,20 +55,29 @@ class CbNav2ZActionBase(SmaccAsyncClientBehavior):
             return
         key, goal = planned
         action = self.client.action_client(key)
-        deadline = time.monotonic() + self.server_wait_s
-        while not action.server_ready():
-            if self.wait_for_shutdown(0.05):
-                return
-            if time.monotonic() > deadline:
-                self.post_failure_event(
-                    error_code=0,
-                    error_msg="",
-                    reason=f"action server '{action.action_name}' not available after "
-                    f"{self.server_wait_s:.0f} s",
-                )
-                return
-        if self.is_shutdown_requested():
+        if action.server_ready():
+            self._send(key, goal)
+        else:
+            self._waiting = (action, key, goal, self.sm.now(), time.monotonic())
+
+    def update(self) -> None:
+        """While the server is not discovered: send once it is, or fail after ``server_wait_s``."""
+        if self._waiting is None:
             return
+        action, key, goal, since_s, since_wall = self._waiting
+        if action.server_ready():
+            self._waiting = None
+            self._send(key, goal)
+        elif (self.sm.now() - since_s > self.server_wait_s
+              and time.monotonic() - since_wall > self.server_wait_s):
+            self._waiting = None
+            self.post_failure_event(
+                error_code=0,
+                error_msg="",
+                reason=f"action server '{action.action_name}' not available after {self.server_wait_s:.0f} s",
+            )
+
+    def _send(self, key: str, goal: Any) -> None:
         tracker = self.optional_component(CpOdomTracker) if self.record_path else None
         if tracker is not None:
             tracker.push_path(type(self.state).__name__)
@@ -88,6 +104,7 @@ class CbNav2ZActionBase(SmaccAsyncClientBehavior):
         """Hook called before the success/failure event (on the executor thread; must be quick)."""
 
     def on_exit(self) -> None:
+        self._waiting = None
         ticket = self.ticket
         if ticket is not None and not ticket.done:
             ticket.abandon()

@@ -97,7 +97,7 @@ class CbAbortNavigation(SmaccClientBehavior):
         client.cancel_navigation()
         ctx = ros_context(self.sm)
         name = f"{client.action_names[NAVIGATE_TO_POSE]}/_action/cancel_goal"
-        self._service = ctx.node.create_client(CancelGoal, name, callback_group=ctx.callback_group)
+        self._service = ctx.node.create_client(CancelGoal, name)
         if not self._service.service_is_ready():
             self.post_success_event(reason=f"no {name} service: nothing to cancel")
             return

@@ -147,7 +147,6 @@ class CbSetInitialPose(_OneShot):
             self.amcl_pose_topic,
             self._on_pose,
             AMCL_POSE_QOS,
-            callback_group=ctx.callback_group,
         )
         self._published_s = self.sm.now()
         self._amcl.set_initial_pose(*self.pose)

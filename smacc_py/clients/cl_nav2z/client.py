@@ -80,9 +80,7 @@ class ClNav2Z(ISmaccClient):
         ctx = ros_context(self.sm)
         self.node = ctx.node
         for key, action_type in ACTION_TYPES.items():
-            self._clients[key] = RosActionClient(
-                ctx.node, action_type, self.action_names[key], ctx.callback_group
-            )
+            self._clients[key] = RosActionClient(ctx.node, action_type, self.action_names[key])
         self._cmd_vel = ctx.node.create_publisher(Twist, self.cmd_vel_topic, 10)
 
     def publish_twist(self, linear_x: float = 0.0, angular_z: float = 0.0) -> None:
@@ -146,9 +144,7 @@ class ClNav2Z(ISmaccClient):
         def on_status(msg: Status) -> None:
             callback(msg.id, msg.active)
 
-        subscription = ctx.node.create_subscription(
-            Status, topic, on_status, BOND_QOS, callback_group=ctx.callback_group
-        )
+        subscription = ctx.node.create_subscription(Status, topic, on_status, BOND_QOS)
 
         def unsubscribe() -> None:
             ctx.node.destroy_subscription(subscription)

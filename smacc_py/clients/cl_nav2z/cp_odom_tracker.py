@@ -43,7 +43,6 @@ class CpOdomTracker(ISmaccComponent):
             self.odom_topic,
             self._on_odom,
             qos_profile_sensor_data,
-            callback_group=ctx.callback_group,
         )
 
     def _on_odom(self, msg: Odometry) -> None:

@@ -17,8 +17,7 @@ class ClRos2Timer(ISmaccClient):
 
     def create_timer(self, period_s: float, callback: Callable[[], None]) -> Any:
         """A node timer (node clock) calling ``callback`` every ``period_s`` s on the executor."""
-        ctx = ros_context(self.sm)
-        return ctx.node.create_timer(period_s, callback, callback_group=ctx.callback_group)
+        return ros_context(self.sm).node.create_timer(period_s, callback)
 
     def destroy_timer(self, timer: Any) -> None:
         """Stop and destroy a timer made by ``create_timer``."""

@@ -54,8 +54,6 @@ def leaf(runtime) -> str:  # type: ignore[no-untyped-def]
     return names[-1] if names else ""
 
 
-@pytest.mark.xfail(strict=False, reason="races the interrupted goal's cancel against its success under load "
-                   "(passes alone): open in the issue 8 note")
 def test_low_battery_recharges_then_history_resumes_the_interrupted_location(stack, battery) -> None:  # type: ignore[no-untyped-def]
     fake, runtime = stack(SmBatteryPatrol, clock_rate=20.0,
                           scripts={"navigate_to_pose": ["succeeded", "hold", "succeeded", "succeeded"]})
@@ -64,7 +62,12 @@ def test_low_battery_recharges_then_history_resumes_the_interrupted_location(sta
                "the patrol to be on its way to location2")
     battery.level = 0.1
     wait_until(lambda: leaf(runtime) == "StiCharge", 30.0, "recharge mode to reach the station")
-    assert nav.results[:2] == ["succeeded", "canceled"]  # the interrupted leg's goal was cancelled
+    # The interrupted leg's goal was cancelled. The station's goal leaves as the patrol exits, so the
+    # fake may finish it before it has processed that cancel: the order of the two results is the
+    # fake's, not the machine's.
+    wait_until(lambda: "canceled" in nav.results, 10.0, "the interrupted leg's goal to end")
+    assert nav.cancels == 1 and nav.results[0] == "succeeded"
+    assert sorted(nav.results[1:3]) == ["canceled", "succeeded"]
     assert leaf(runtime) == "StiCharge"  # still low: it stays parked
     battery.level = 1.0
     wait_until(lambda: len(runtime.sm.get_global_sm_data(VISITS_KEY, [])) >= 4, 30.0,
