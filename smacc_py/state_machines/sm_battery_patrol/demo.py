@@ -24,7 +24,7 @@ from pathlib import Path
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
-from smacc_py.state_machines.sm_nav2_test_1.demo import READY_PATTERN, bringup_command
+from smacc_py.state_machines.sm_nav2_test_1.demo import READY_PATTERN, bringup_command, parse_rtf
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
 EXIT_SUCCESS, EXIT_TIMEOUT, EXIT_STACK, EXIT_INTERRUPTED = 0, 2, 3, 130
@@ -33,7 +33,9 @@ CYCLES_KEY, VISITS_KEY, RECHARGES_KEY = "patrol_cycles", "visits", "recharges"
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="sm-battery-patrol", description=__doc__.splitlines()[0])
-    parser.add_argument("--rtf", type=float, default=5.0, help="real-time factor of the simulation")
+    parser.add_argument("--rtf", type=parse_rtf, default="max",
+                        help="upper bound on the real-time factor (default max; the simulator runs in "
+                             "lockstep with the stack)")
     parser.add_argument("--cycles", type=int, default=2, help="patrol rounds (location1..4) to complete")
     parser.add_argument("--timeout", type=float, default=900.0, help="wall-clock limit (s)")
     default_params = DEFAULT_PARAMS if DEFAULT_PARAMS.exists() else None
@@ -47,8 +49,6 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--bringup-arg", action="append", default=[],
                         help="extra argument for the stack command (repeatable)")
     options = parser.parse_args(argv)
-    if not options.rtf > 0.0:
-        parser.error(f"--rtf must be > 0, got {options.rtf}")
     if options.cycles < 1:
         parser.error(f"--cycles must be >= 1, got {options.cycles}")
     return options
@@ -147,7 +147,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         launcher.stop()
 
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
-    command = [*bringup_command(options.rtf, options.bringup), *options.bringup_arg]
+    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol"), *options.bringup_arg]
     try:
         say(f"[patrol] starting the stack: {' '.join(command)}")
         try:

@@ -8,7 +8,7 @@ timeout, 3 when a process of the stack died (or could not start), 130 on Ctrl-C.
 
 Examples::
 
-    navsuite-demo --rtf 5
+    navsuite-demo --rtf 1                       # real time, to watch in navsuite-viewer
     navsuite-demo --waypoint1 5.0,3.0,1.57      # outside the map: ABORT, and the output says why
 
 The run is recorded to ``<report>.mcap`` (the report's topics plus the robot's sensors, odometry,
@@ -53,14 +53,31 @@ def parse_pose(text: str) -> list[float]:
     return values
 
 
-def bringup_command(rtf: float, custom: str | None = None) -> list[str]:
+def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None) -> list[str]:
     """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
-    ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line."""
+    ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
+
+    ``machine`` names the state machine that will join lockstep: the simulator waits for it before
+    its first step, so the mission starts at the same sim time on every run.
+    """
     if custom:
-        return [*shlex.split(custom), "--rtf", f"{rtf:g}"]
+        return [*shlex.split(custom), "--rtf", rtf]
     exe = shutil.which("nav-bringup")
     base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, "--rtf", f"{rtf:g}"]
+    return [*base, "--rtf", rtf, *(["--participant", machine] if machine else [])]
+
+
+def parse_rtf(text: str) -> str:
+    """``--rtf``: a positive number or ``max`` (as fast as the stack keeps up, in lockstep)."""
+    if text.lower() in ("max", "inf"):
+        return "max"
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive number or 'max', got {text!r}") from None
+    if not value > 0.0:
+        raise argparse.ArgumentTypeError(f"must be a positive number or 'max', got {text!r}")
+    return f"{value:g}"
 
 
 REPORT_DEFAULT = Path("artifacts") / "demo_report.png"
@@ -101,7 +118,9 @@ def write_run_report(report: Path, say: Callable[[str], None]) -> None:
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="navsuite-demo", description=__doc__.splitlines()[0])
-    parser.add_argument("--rtf", type=float, default=1.0, help="real-time factor of the simulation")
+    parser.add_argument("--rtf", type=parse_rtf, default="max",
+                        help="upper bound on the real-time factor (default max: as fast as the stack "
+                             "keeps up; the simulator runs in lockstep with it); 1 to watch in the viewer")
     parser.add_argument("--timeout", type=float, default=600.0, help="wall-clock limit (s) for the mission")
     parser.add_argument("--waypoint1", type=parse_pose, help="x,y,yaw of the first goal (map frame)")
     parser.add_argument("--waypoint2", type=parse_pose, help="x,y,yaw of the second goal (map frame)")
@@ -120,10 +139,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help=f"run report PNG, from a recording next to it (default {REPORT_DEFAULT})")
     parser.add_argument("--no-report", dest="report", action="store_const", const=None,
                         help="neither record the run nor write a report")
-    options = parser.parse_args(argv)
-    if not options.rtf > 0.0:
-        parser.error(f"--rtf must be > 0, got {options.rtf}")
-    return options
+    return parser.parse_args(argv)
 
 
 class _Output:
@@ -161,13 +177,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     wall_start = time.monotonic()
     try:
-        out.say(f"[demo] starting the stack: {' '.join(bringup_command(options.rtf, options.bringup))}")
+        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1")
+        out.say(f"[demo] starting the stack: {' '.join(command)}")
         try:
             launcher.start(
                 [
                     ProcessSpec(
                         "nav",
-                        bringup_command(options.rtf, options.bringup),
+                        command,
                         ready=READY_PATTERN,
                         ready_timeout=options.ready_timeout,
                     )

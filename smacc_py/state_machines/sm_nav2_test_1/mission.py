@@ -37,14 +37,20 @@ class MissionObserver(SmaccObserver):
 
 
 def summary(
-    records: list[TransitionRecord], initial: str, sim_s: float, wall_s: float, result: str
+    records: list[TransitionRecord], initial: str, sim_s: float, wall_s: float, result: str,
+    mission_wall_s: float | None = None,
 ) -> list[str]:
-    """The closing lines: states visited, durations, result."""
+    """The closing lines: states visited, durations, the real-time factor reached, result.
+
+    ``wall_s`` counts from the command's start (bringup included); the real-time factor is the
+    mission's sim time over the mission's own wall time (``mission_wall_s``, from the machine's start).
+    """
     visited = [initial, *[r.leaf.__name__ for r in records]]
+    rtf = f"; real-time factor {sim_s / mission_wall_s:.1f}" if mission_wall_s else ""
     return [
         "[demo] ---------------- summary ----------------",
         f"[demo] states visited: {' -> '.join(visited)}",
-        f"[demo] transitions: {len(records)}; sim time {sim_s:.1f} s; wall time {wall_s:.1f} s",
+        f"[demo] transitions: {len(records)}; sim time {sim_s:.1f} s; wall time {wall_s:.1f} s{rtf}",
         f"[demo] result: {result}",
     ]
 
@@ -84,7 +90,8 @@ def run_mission(
         )
         runtime.spin_in_background()
         runtime.start()
-        deadline = time.monotonic() + options.timeout
+        mission_start = time.monotonic()
+        deadline = mission_start + options.timeout
         timed_out = threading.Event()
 
         def until() -> bool:
@@ -100,6 +107,7 @@ def run_mission(
         started = runtime.started_at_s
         sim_s = runtime.sm.now() - started if started is not None else 0.0
         wall_s = time.monotonic() - wall_start
+        mission_wall_s = time.monotonic() - mission_start
         if observer.finished.is_set():
             last = records[-1]
             ok = last.tag.family() == "SUCCESS"
@@ -114,7 +122,7 @@ def run_mission(
             )
         else:
             code, result = EXIT_STACK, f"the stack stopped (exit code {stack_code}) before the mission ended"
-        for line in summary(records, "StAllSensorsGo", sim_s, wall_s, result):
+        for line in summary(records, "StAllSensorsGo", sim_s, wall_s, result, mission_wall_s):
             say(line)
         return code
     finally:
