@@ -3,7 +3,8 @@
 Why a client and not a server: exploration only chooses goals; SLAM (``slam``) grows /map and the
 Nav2 stack (``nav-bringup --slam``) drives. The goal choice is nav_stack.core.exploration.Explorer.
 
-Loop (a sim-time timer; nothing blocks the executor, goals are futures with done-callbacks):
+Loop (a sim-time timer on the one executor thread; nothing blocks it: goals are futures with
+done-callbacks, and the final save is driven by a steady timer and the map_saver's answer):
   0. first a full turn in place through Nav2's ``spin`` behavior: SLAM integrates a scan only after
      0.2 m / 0.2 rad of motion and needs a few looks before a cell counts as free, so the map of a
      robot that has not moved shows walls but no free space and hence no frontier;
@@ -18,6 +19,8 @@ Loop (a sim-time timer; nothing blocks the executor, goals are futures with done
 A progress line (goals, mapped area, elapsed sim time) is printed per goal and every ``progress_period``.
 ``-f NAME`` saves the final map through ``map_saver/save_map`` or, without a map_saver, with
 nav_stack.core.map_io (free_thresh 0.196 so unknown stays unknown on reload).
+Under ``use_sim_time`` (the default) the process takes part in lockstep as ``explore``, so the
+simulator never runs ahead of the goal choice.
 """
 
 from __future__ import annotations
@@ -25,8 +28,8 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,7 +40,6 @@ from nav2_msgs.action import NavigateToPose, Spin
 from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
 from rclpy.action import ActionClient
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.node import Node
 
 from nav_stack.core.exploration import ExplorationStatus, Explorer, ExplorerParams
@@ -48,6 +50,7 @@ from nav_stack.ros.conversions import duration_msg, grid_from_occupancy, pose_st
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.waiting import steady_clock
 from ros_tools.tf.ros import stamp_to_seconds
 
 NAVIGATE_ACTION = "navigate_to_pose"
@@ -57,6 +60,9 @@ SPIN_ALLOWANCE = 60.0  # s the first turn may take; after SPIN_ALLOWANCE + SPIN_
 MAP_SAVER_SERVICE = "map_saver/save_map"
 TICK_PERIOD = 0.5  # s (node clock) between loop steps
 SAVE_FREE_THRESH = 0.196  # keeps pixel 205 unknown on reload (see nav_stack/ros/map_saver.py)
+SAVER_DISCOVERY = 2.0  # wall s to find the map_saver service before saving with map_io instead
+SAVER_ANSWER = 15.0  # wall s the map_saver may take to answer
+SAVER_POLL = 0.05  # wall s between checks while saving (discovery has no event to wait on)
 EXIT_TIMEOUT = 3
 
 
@@ -81,10 +87,16 @@ class ExploreParams:
 
 
 class ExploreNode(Node):
-    """Chooses frontier goals and sends them; ``finished`` / ``exit_code`` say when and how it ended."""
+    """Chooses frontier goals and sends them; ``finished`` / ``exit_code`` say when and how it ended.
 
-    def __init__(self, **kwargs: Any) -> None:
+    Args:
+        map_file: when given, the run ends by saving the map as ``map_file``.pgm/.yaml (``finished``
+            is set once the map is saved or the save failed; a failed save makes ``exit_code`` 1).
+    """
+
+    def __init__(self, map_file: str | None = None, **kwargs: Any) -> None:
         super().__init__("explore", **kwargs)
+        self.map_file = map_file
         self.params = declare_dataclass(self, ExploreParams)
         self.explorer = Explorer(declare_dataclass(self, ExplorerParams))
         self.frames = Frames(self, self.params.robot_base_frame)
@@ -103,10 +115,9 @@ class ExploreNode(Node):
         self._ended_at = -math.inf
         self._started: float | None = None
         self._last_progress = -math.inf
-        self._lock = threading.RLock()  # the timer and the goal futures' callbacks share the goal state
-        group = MutuallyExclusiveCallbackGroup()
-        self.create_subscription(OccupancyGrid, "map", self._on_map, LATCHED, callback_group=group)
-        self.create_timer(TICK_PERIOD, self._tick, callback_group=group)
+        self._ending = False  # the run has ended and the map is being saved
+        self.create_subscription(OccupancyGrid, "map", self._on_map, LATCHED)
+        self._timer = self.create_timer(TICK_PERIOD, self._step)
 
     def now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
@@ -131,12 +142,8 @@ class ExploreNode(Node):
         return line
 
     # -- the loop ------------------------------------------------------------------------------
-    def _tick(self) -> None:
-        with self._lock:
-            self._step()
-
     def _step(self) -> None:
-        if self.finished or self.map is None:
+        if self._ending or self.map is None:
             return
         now = self.now()
         if self._started is None:
@@ -198,8 +205,7 @@ class ExploreNode(Node):
         handle.get_result_async().add_done_callback(self._spin_done)
 
     def _spin_done(self, future: Any) -> None:
-        with self._lock:
-            self._spin, self._ended_at = "done", self.now()
+        self._spin, self._ended_at = "done", self.now()
 
     def _send(self, goal: Pose2D) -> None:
         if not self._client.server_is_ready():
@@ -215,10 +221,6 @@ class ExploreNode(Node):
         self._client.send_goal_async(request).add_done_callback(lambda f, g=goal: self._on_accepted(f, g))
 
     def _on_accepted(self, future: Any, goal: Pose2D) -> None:
-        with self._lock:
-            self._accepted(future, goal)
-
-    def _accepted(self, future: Any, goal: Pose2D) -> None:
         if goal is not self._goal:
             return  # a timed-out goal answered late
         handle = future.result()
@@ -230,10 +232,9 @@ class ExploreNode(Node):
         handle.get_result_async().add_done_callback(lambda f, g=goal: self._on_result(f, g))
 
     def _on_result(self, future: Any, goal: Pose2D) -> None:
-        with self._lock:
-            if goal is not self._goal:
-                return
-            self._result(future.result())
+        if goal is not self._goal:
+            return
+        self._result(future.result())
 
     def _result(self, response: Any) -> None:
         reached = response is not None and response.status == GoalStatus.STATUS_SUCCEEDED
@@ -257,23 +258,56 @@ class ExploreNode(Node):
         if self._handle is not None:
             self._handle.cancel_goal_async()
         self.summary = self.progress(reason)
-        self.finished, self.exit_code = True, code
+        self._ending, self.exit_code = True, code
+        self._timer.cancel()
+        if self.map_file:
+            self.save(self.map_file, self._saved)
+        else:
+            self.finished = True
+
+    def _saved(self, saved: bool) -> None:
+        if not saved:
+            print("explore: no map to save", file=sys.stderr, flush=True)
+            self.exit_code = self.exit_code or 1
+        self.finished = True
 
     # -- saving --------------------------------------------------------------------------------
-    def save(self, name: str, executor: Any, wait: float = 2.0) -> bool:
-        """Save the latest map as ``name``.pgm/.yaml (map_saver service if there is one, else map_io)."""
+    def save(self, name: str, done: Callable[[bool], None]) -> None:
+        """Save the latest map as ``name``.pgm/.yaml: through the map_saver service if one appears
+        within SAVER_DISCOVERY and answers within SAVER_ANSWER, else with map_io. ``done(saved)`` is
+        called once, from a callback. A steady timer drives it (a stopped simulation cannot hold it)
+        and nothing waits: the executor keeps serving meanwhile."""
         client = self.create_client(SaveMap, MAP_SAVER_SERVICE)
-        deadline = time.monotonic() + wait
-        while not client.service_is_ready() and time.monotonic() < deadline:
-            executor.spin_once(timeout_sec=0.05)
-        if client.service_is_ready():
-            future = client.call_async(SaveMap.Request(map_url=name, free_thresh=SAVE_FREE_THRESH))
-            deadline = time.monotonic() + 15.0
-            while not future.done() and time.monotonic() < deadline:
-                executor.spin_once(timeout_sec=0.05)
-            if future.done() and future.result().result:
+        started = time.monotonic()
+        asked: list[Any] = []  # [future, monotonic s] once the request is out
+        ended: list[bool] = []
+
+        def end(by_service: bool) -> None:
+            if ended:
+                return  # an answer after the timeout, or a timeout after the answer
+            ended.append(True)
+            self.destroy_timer(timer)
+            self.destroy_client(client)
+            if by_service:
                 print(f"explore: map saved to {name}.yaml (map_saver)", flush=True)
-                return True
+            done(by_service or self._save_here(name))
+
+        def on_answer(future: Any) -> None:
+            end(bool(future.result() is not None and future.result().result))
+
+        def poll() -> None:
+            now = time.monotonic()
+            if not asked and client.service_is_ready():
+                request = SaveMap.Request(map_url=name, free_thresh=SAVE_FREE_THRESH)
+                asked[:] = [client.call_async(request), now]
+                asked[0].add_done_callback(on_answer)
+            elif (not asked and now - started > SAVER_DISCOVERY) or (asked and now - asked[1] > SAVER_ANSWER):
+                end(False)
+
+        timer = self.create_timer(SAVER_POLL, poll, clock=steady_clock())
+        poll()
+
+    def _save_here(self, name: str) -> bool:
         if self.map is None:
             return False
         save_map(OccupancyMap(self.map[0], self.map[1]), Path(name), free_thresh=SAVE_FREE_THRESH,
@@ -283,12 +317,16 @@ class ExploreNode(Node):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``nav-explore [-f my_map] [--max-time S] [--ros-args ...]``; exit 0 complete, 3 max time."""
+    """``nav-explore [-f my_map] [--max-time S] [--executor events|single] [--ros-args ...]``;
+    exit 0 complete, 3 max time, 1 map not saved, 130 interrupted."""
     import rclpy
-    from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+    from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+    from ros_tools.runtime.executor import add_executor_argument, make_executor
+    from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
+    from ros_tools.runtime.runner import destroy_nodes
 
     args_in = list(sys.argv[1:] if argv is None else argv)
     split = args_in.index("--ros-args") if "--ros-args" in args_in else len(args_in)
@@ -296,26 +334,30 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-f", dest="map_file", help="save the final map as MAP_FILE.pgm/.yaml")
     parser.add_argument("--max-time", type=float, help="stop after this many sim seconds")
     parser.add_argument("--no-sim-time", action="store_true", help="use the wall clock instead of /clock")
+    add_executor_argument(parser)
     args = parser.parse_args(args_in[:split])
     rclpy.init(args=["nav-explore", *args_in[split:]])
     overrides = [Parameter("use_sim_time", value=not args.no_sim_time)]
     if args.max_time is not None:
         overrides.append(Parameter("max_time", value=float(args.max_time)))
-    node = ExploreNode(parameter_overrides=overrides)
-    executor = MultiThreadedExecutor(num_threads=3)
+    node = ExploreNode(args.map_file, parameter_overrides=overrides)
+    executor = make_executor(args.executor)
     executor.add_node(node)
-    code = 0
+    # The run ends by itself, which the runner's spin-until-shutdown cannot express: the main thread
+    # spins until the node says it finished (no callback ever waits).
+    participant = LockstepParticipant(node, "explore") if uses_sim_time(node) else None
+    code = 130
     try:
-        while not node.finished:
+        while rclpy.ok() and not node.finished:
             executor.spin_once(timeout_sec=0.1)
-        code = node.exit_code
-        if args.map_file and not node.save(args.map_file, executor):
-            print("explore: no map to save", file=sys.stderr)
-            code = code or 1
+        code = node.exit_code if node.finished else 130
     except (KeyboardInterrupt, ExternalShutdownException):
-        code = 130
+        pass
     finally:
-        node.destroy_node()
+        if participant is not None and rclpy.ok():
+            participant.destroy()
+        executor.shutdown()
+        destroy_nodes([node])
         rclpy.try_shutdown()
     return code
 

@@ -8,6 +8,9 @@ While a goal runs one status line shows distance remaining, ETA, recoveries and 
 the end prints the result with its error code and message. Exit status: 0 on success, 1 on
 failure (aborted, rejected, missed waypoints, unconfirmed initial pose), 2 on bad input, 130
 after Ctrl-C (which cancels the goal first).
+
+The client spins its executor (``--executor events``, the default, or ``single``) from the main
+thread until a future completes; its callbacks only record feedback and results.
 """
 
 from __future__ import annotations
@@ -54,7 +57,10 @@ def load_waypoints(path: Path) -> list[tuple[float, float, float]]:
 
 
 def _parser() -> argparse.ArgumentParser:
+    from ros_tools.runtime.executor import add_executor_argument
+
     parser = argparse.ArgumentParser(prog="nav-goal", description="Send goals to the navigation stack.")
+    add_executor_argument(parser)
     sub = parser.add_subparsers(dest="command", required=True)
     pose = sub.add_parser("initial-pose", help="set AMCL's pose and wait until it is confirmed")
     for name in ("x", "y", "yaw"):
@@ -74,15 +80,16 @@ def _parser() -> argparse.ArgumentParser:
 class GoalRunner:
     """One client node; sends a goal, prints progress, cancels on Ctrl-C."""
 
-    def __init__(self) -> None:
+    def __init__(self, executor: str | None = None) -> None:
         import rclpy
-        from rclpy.executors import SingleThreadedExecutor
         from rclpy.parameter import Parameter
         from rclpy.signals import SignalHandlerOptions
 
+        from ros_tools.runtime.executor import make_executor
+
         rclpy.init(args=["nav_goal"], signal_handler_options=SignalHandlerOptions.NO)
         self.node = rclpy.create_node("nav_goal", parameter_overrides=[Parameter("use_sim_time", value=True)])
-        self.executor = SingleThreadedExecutor()
+        self.executor = make_executor(executor)
         self.executor.add_node(self.node)
         self._last_status = 0.0
 
@@ -226,7 +233,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"nav-goal: error: {error}", file=sys.stderr)
             return EXIT_USAGE
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    runner = GoalRunner()
+    runner = GoalRunner(args.executor)
     try:
         command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]
         return command(runner, args)

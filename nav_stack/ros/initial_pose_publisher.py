@@ -9,7 +9,9 @@ plus waitUntilNav2Active do: publish (frame ``map``) once AMCL listens, re-publi
 
 Parameters: x (-2.0 m), y (-0.5 m), yaw (0.0 rad), covariance (0.25: the x, y and yaw variances),
 republish_period (1.0 s), timeout (60.0 s), position_tolerance (0.5 m), yaw_tolerance (0.5 rad),
-exit_when_done (True; False keeps the node idle). Times are wall-clock seconds.
+exit_when_done (True; False keeps the node idle). Times are wall-clock seconds (a steady timer:
+discovery and AMCL's start-up are wall-time matters). Nothing waits in a callback: a 0.1 s timer
+publishes and checks the timeout, the /amcl_pose callback confirms.
 Exit code of main(): 0 when confirmed, 1 on timeout.
 """
 
@@ -23,13 +25,15 @@ from dataclasses import dataclass
 import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from nav_stack.core.geometry import angle_diff, yaw_or_nan
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT, LATCHED
+from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import destroy_nodes, split_runner_flags
 
 NODE_NAME = "amcl_init_pose_publisher"
 
@@ -114,10 +118,17 @@ class InitialPosePublisher(Node):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run until AMCL confirms the pose (or the timeout); with exit_when_done false, stay idle."""
-    rclpy.init(args=sys.argv if argv is None else argv)
+    """Run until AMCL confirms the pose (or the timeout); with exit_when_done false, stay idle.
+
+    ``[--executor events|single] [--ros-args ...]``. The run ends by itself, which the runner's
+    spin-until-shutdown cannot express, so the main thread spins until the node is done.
+    """
+    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+
+    _, executor_kind, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
+    rclpy.init(args=rclpy_args)
     node = InitialPosePublisher()
-    executor = SingleThreadedExecutor()
+    executor = make_executor(executor_kind)
     executor.add_node(node)
     try:
         while rclpy.ok() and (node.done is None or not node.params.exit_when_done):
@@ -127,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         confirmed = bool(node.done)
         executor.shutdown()
-        node.destroy_node()
+        destroy_nodes([node])
         rclpy.try_shutdown()
     return 0 if confirmed else 1
 

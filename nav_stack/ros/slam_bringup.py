@@ -47,9 +47,9 @@ def slam_processes(params_file: str | Path, *, use_sim_time: bool = True,
     common = ["--params-file", str(params_file), "-p", f"use_sim_time:={str(use_sim_time).lower()}",
               *extra_ros_args]
     # ``python -m nav_stack.ros.map_saver`` is map_saver_cli; the server is that module's main().
+    saver = "import sys; from nav_stack.ros.map_saver import main; sys.exit(main())"
     nodes = [ProcessSpec("slam", [python, "-m", "nav_stack.ros.slam_node", "--ros-args", *common]),
-             ProcessSpec("map_saver", [python, "-c", "from nav_stack.ros.map_saver import main; main()",
-                                       "--ros-args", *common])]
+             ProcessSpec("map_saver", [python, "-c", saver, "--ros-args", *common])]
     manager = ProcessSpec(
         SLAM_MANAGER,
         [python, "-m", "nav_stack.ros.lifecycle_manager", "--ros-args", "-r", f"__node:={SLAM_MANAGER}",

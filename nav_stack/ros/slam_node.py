@@ -1,18 +1,23 @@
 """slam: online grid SLAM on the ROS graph, in the role of slam_toolbox's async mapper.
 
-Why a worker thread: a processed scan costs tens of ms and a loop closure (graph solve and map
-rebuild) up to seconds; done in a callback it would stall TF, /clock and the services. The scan
-callback only parks the newest scan in a one-slot mailbox (older unprocessed ones are dropped, as
-slam_toolbox's async mode does), and the worker looks up odometry, runs the core
-(``nav_stack.core.slam.GridSlam``) and publishes.
+Why no worker thread: the outcome must not depend on thread scheduling. A scan is processed on the
+executor thread as soon as the odometry at its stamp is in the TF buffer: the scan callback tries at
+once, and a scan whose odometry has not arrived yet waits in a one-slot queue and is retried after
+every TF message (a newer scan replaces it, as slam_toolbox's async mode drops scans it cannot keep up
+with). What is mapped then depends only on the order messages arrive in. A processed scan costs tens
+of ms and a loop closure up to seconds; meanwhile the executor's other callbacks wait, and under
+lockstep (the runner makes this process a ``slam`` participant when ``use_sim_time`` is set) the
+simulator waits too, so the map comes out the same however loaded the machine is.
 
   in   ``scan_topic`` (LaserScan, sensor QoS); TF ``odom_frame`` → ``base_frame`` at the scan stamp
-       (a scan waits up to SCAN_TF_WAIT wall s for its odometry) and the static base → laser pose.
+       (a scan waits up to SCAN_TF_WAIT s of the node clock for its odometry) and the static
+       base → laser pose.
   out  ``map`` (OccupancyGrid, reliable transient local depth 1) after the first scan and then at
        most every ``map_update_interval`` sim s; it grows (size and origin change) as the robot
        explores, and the global costmap's static layer re-sizes to it.
        map → odom on /tf stamped now + ``transform_timeout`` after every scan and re-sent every
-       ``transform_publish_period`` wall s, so TF never goes stale while the robot stands still.
+       ``transform_publish_period`` s of the node clock (sim s under use_sim_time, so the rate in
+       sim time holds at any simulation speed), so TF never goes stale while the robot stands still.
        ``slam/pose`` (PoseWithCovarianceStamped, map frame, scan stamp) for every scan.
   srv  ``slam/save_map`` (nav2_msgs/SaveMap semantics: ``map_url`` is the path without extension,
        thresholds 0 mean SAVE_FREE_THRESH / SAVE_OCCUPIED_THRESH; only pgm / trinary are written) and
@@ -29,8 +34,8 @@ from __future__ import annotations
 
 import math
 import sys
-import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,11 +43,11 @@ import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
-from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
 from rclpy.time import Time
 from sensor_msgs.msg import LaserScan as LaserScanMsg
 from std_srvs.srv import SetBool
+from tf2_msgs.msg import TFMessage
 
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
@@ -61,8 +66,7 @@ MAP_TOPIC = "map"
 POSE_TOPIC = "~/pose"
 SAVE_MAP_SERVICE = "~/save_map"
 PAUSE_SERVICE = "~/pause_new_measurements"
-SCAN_TF_WAIT = 0.3  # wall s a scan may wait for the odometry at its stamp
-TF_POLL = 0.005  # wall s between TF polls while waiting
+SCAN_TF_WAIT = 0.3  # s of the node clock a scan may wait for the odometry at its stamp
 WARN_PERIOD = 5.0  # s between repeated warnings
 ACTIVE_MESSAGE = "slam: active, mapping from scans"
 # Thresholds written by save_map when the request leaves them 0. Not Nav2 map_saver's 0.25: with it the
@@ -80,7 +84,8 @@ class SlamNodeParams:
         odom_frame / map_frame / base_frame: TF frames (base_footprint: the frame sim2d's odometry moves).
         scan_topic: LaserScan topic.
         transform_timeout: map → odom is stamped this far (s) into the future, AMCL's transform_tolerance.
-        transform_publish_period: wall period (s) of the map → odom re-publication (0 disables it).
+        transform_publish_period: period (s of the node clock) of the map → odom re-publication
+            (0 disables it).
     """
 
     odom_frame: str = "odom"
@@ -101,8 +106,39 @@ def _time_msg(seconds: float) -> object:
     return Time(nanoseconds=round(seconds * 1e9)).to_msg()
 
 
+class _NotifyingListener(TransformListener):
+    """A TransformListener that calls ``on_update`` after each /tf or /tf_static message is stored.
+
+    Why: a scan waiting for its odometry is retried exactly when the buffer may have it, in message
+    order, instead of by polling. (ros_tools' listener has no public hook for this yet.)
+    """
+
+    def __init__(self, node: Node, on_update: Callable[[], None]) -> None:
+        self._on_update = on_update  # set first: the subscriptions may deliver during __init__
+        super().__init__(node)
+
+    def _on_tf(self, msg: TFMessage) -> None:
+        super()._on_tf(msg)
+        self._on_update()
+
+    def _on_tf_static(self, msg: TFMessage) -> None:
+        super()._on_tf_static(msg)
+        self._on_update()
+
+
+@dataclass
+class _PendingScan:
+    """A scan waiting for the odometry at its stamp; ``received`` is the node clock (s) on arrival."""
+
+    msg: LaserScanMsg
+    received: float
+
+
 class SlamNode(NavLifecycleNode):
-    """The ``slam`` lifecycle node; see the module docstring for its ROS surface."""
+    """The ``slam`` lifecycle node; see the module docstring for its ROS surface.
+
+    Every callback (scans, TF, timer, services) runs on the executor thread, one at a time.
+    """
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(NODE_NAME, **kwargs)
@@ -113,15 +149,12 @@ class SlamNode(NavLifecycleNode):
         self.process_times: list[float] = []  # wall s of each processed scan (bench/bench_slam_system.py)
         self.paused = False
         self.ignored_scans = 0  # scans received while paused, since the last pause
-        self._slam_lock = threading.Lock()
-        self._mailbox = threading.Condition()
-        self._latest: tuple[LaserScanMsg, float] | None = None
-        self._stop = False
-        self._worker: threading.Thread | None = None
+        self.parked_scans = 0  # scans that arrived before their odometry and waited for it
+        self.dropped_scans = 0  # scans that never found their odometry (replaced, too old, or timed out)
+        self._pending: _PendingScan | None = None
         self._laser_poses: dict[str, Pose2D] = {}
         self._map_to_odom: Pose2D | None = None
         self._last_map_stamp = -math.inf
-        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._entities: list[object] = []
         self._active: list[object] = []
 
@@ -130,36 +163,25 @@ class SlamNode(NavLifecycleNode):
         self.params = declare_dataclass(self, SlamParams)
         self.node_params = declare_dataclass(self, SlamNodeParams)
         self.slam = GridSlam(self.params)
-        self.tf = TransformListener(self)
+        self.tf = _NotifyingListener(self, self._retry_pending)
         self.tf_broadcaster = TransformBroadcaster(self)
         self.map_pub = self.create_publisher(OccupancyGrid, MAP_TOPIC, LATCHED)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, POSE_TOPIC, LATCHED)
-        services = MutuallyExclusiveCallbackGroup()
         self._entities = [
             self.map_pub, self.pose_pub,
-            self.create_service(SaveMap, SAVE_MAP_SERVICE, self._on_save_map, callback_group=services),
-            self.create_service(SetBool, PAUSE_SERVICE, self._on_pause, callback_group=services),
+            self.create_service(SaveMap, SAVE_MAP_SERVICE, self._on_save_map),
+            self.create_service(SetBool, PAUSE_SERVICE, self._on_pause),
         ]
 
     def activate(self) -> None:
         p = self.node_params
         self._active = [self.create_subscription(LaserScanMsg, p.scan_topic, self._on_scan, SENSOR)]
         if p.transform_publish_period > 0.0:
-            timer = self.create_timer(p.transform_publish_period, self._send_tf, clock=self._steady)
-            self._active.append(timer)
-        self._stop = False
-        self._worker = threading.Thread(target=self._work, name="slam_worker", daemon=True)
-        self._worker.start()
+            self._active.append(self.create_timer(p.transform_publish_period, self._send_tf))
         self.get_logger().info(ACTIVE_MESSAGE)
 
     def deactivate(self) -> None:
-        with self._mailbox:
-            self._stop = True
-            self._latest = None
-            self._mailbox.notify_all()
-        if self._worker is not None:
-            self._worker.join(timeout=10.0)
-            self._worker = None
+        self._pending = None
         for entity in self._active:
             self._destroy(entity)
         self._active = []
@@ -180,61 +202,63 @@ class SlamNode(NavLifecycleNode):
     def _destroy(self, entity: object) -> None:
         getattr(self, f"destroy_{type(entity).__name__.lower()}")(entity)
 
-    # -- scans: the callback parks, the worker processes ----------------------------------------
+    # -- scans: processed on arrival, or parked until their odometry arrives ----------------------
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
     def _on_scan(self, msg: LaserScanMsg) -> None:
         if self.paused:
             self.ignored_scans += 1
             return
-        with self._mailbox:
-            self._latest = (msg, time.monotonic())
-            self._mailbox.notify()
+        if self._pending is not None:
+            self._drop("a newer scan arrived before its odometry")
+        self._pending = _PendingScan(msg, self._now())
+        self._retry_pending()
+        if self._pending is not None:
+            self.parked_scans += 1
 
-    def _work(self) -> None:
-        while True:
-            with self._mailbox:
-                self._mailbox.wait_for(lambda: self._stop or self._latest is not None)
-                if self._stop:
-                    return
-                assert self._latest is not None
-                msg, received = self._latest
-                self._latest = None
-            try:
-                self._handle(msg, received)
-            except Exception as error:  # a bad scan or a clock jump must not kill mapping
-                self.get_logger().warning(f"dropped a scan: {error}", throttle_duration_sec=WARN_PERIOD)
+    def _retry_pending(self) -> None:
+        """Process the parked scan if its transforms are in the buffer now; drop it if they never will be."""
+        pending = self._pending
+        if pending is None:
+            return
+        try:
+            transforms = self._transforms(pending.msg)
+        except TransformError as error:
+            past = isinstance(error, ExtrapolationError) and "past" in str(error)
+            if past or self._now() - pending.received > SCAN_TF_WAIT:
+                self._drop(f"no transform for a scan: {error}")
+            return
+        self._pending = None
+        if self.paused:
+            return
+        try:
+            self._handle(pending.msg, *transforms)
+        except Exception as error:  # a bad scan or a clock jump must not kill mapping
+            self.get_logger().warning(f"dropped a scan: {error}", throttle_duration_sec=WARN_PERIOD)
 
-    def _wait_for(self, target: str, source: str, stamp: float | None, received: float) -> Transform | None:
-        """TF ``target`` ← ``source`` at ``stamp``, polled until SCAN_TF_WAIT after ``received``."""
-        while True:
-            try:
-                return self.tf.lookup(target, source, stamp)
-            except TransformError as error:
-                past = isinstance(error, ExtrapolationError) and "past" in str(error)
-                if past or self._stop or time.monotonic() - received > SCAN_TF_WAIT:
-                    self.get_logger().warning(f"no transform for a scan: {error}",
-                                              throttle_duration_sec=WARN_PERIOD)
-                    return None
-            time.sleep(TF_POLL)  # the worker thread, never an executor callback
+    def _drop(self, reason: str) -> None:
+        self._pending = None
+        self.dropped_scans += 1
+        self.get_logger().warning(reason, throttle_duration_sec=WARN_PERIOD)
 
-    def _handle(self, msg: LaserScanMsg, received: float) -> None:
+    def _transforms(self, msg: LaserScanMsg) -> tuple[Pose2D, Transform]:
+        """(laser pose in the base frame, odometry at the scan stamp); raises TransformError."""
         p = self.node_params
         frame = msg.header.frame_id.lstrip("/")
         if frame not in self._laser_poses:
-            laser = self._wait_for(p.base_frame, frame, None, received)
-            if laser is None:
-                return
+            laser = self.tf.lookup(p.base_frame, frame, None)
             self._laser_poses[frame] = Pose2D(laser.x, laser.y, laser.yaw)
+        odom = self.tf.lookup(p.odom_frame, p.base_frame, stamp_to_seconds(msg.header.stamp))
+        return self._laser_poses[frame], odom
+
+    def _handle(self, msg: LaserScanMsg, laser: Pose2D, odom: Transform) -> None:
         stamp = stamp_to_seconds(msg.header.stamp)
-        odom = self._wait_for(p.odom_frame, p.base_frame, stamp, received)
-        if odom is None or self.paused:
-            return
         ranges = np.asarray(msg.ranges, dtype=np.float64)
         scan = LaserScan(ranges, msg.angle_min, msg.angle_increment, msg.range_min, msg.range_max)
         started = time.perf_counter()
-        with self._slam_lock:
-            assert self.slam is not None
-            odom_pose = Pose2D(odom.x, odom.y, odom.yaw)
-            update = self.slam.process(scan, odom_pose, stamp, self._laser_poses[frame])
+        assert self.slam is not None
+        update = self.slam.process(scan, Pose2D(odom.x, odom.y, odom.yaw), stamp, laser)
         if update.processed:
             self.process_times.append(time.perf_counter() - started)
         self._map_to_odom = update.map_to_odom
@@ -265,9 +289,8 @@ class SlamNode(NavLifecycleNode):
         self.pose_pub.publish(msg)
 
     def _publish_map(self, stamp: object) -> None:
-        with self._slam_lock:
-            assert self.slam is not None
-            data, spec = self.slam.occupancy()
+        assert self.slam is not None
+        data, spec = self.slam.occupancy()
         self.map_msg = occupancy_msg(data, spec, self.node_params.map_frame, stamp)
         self.map_pub.publish(self.map_msg)
 
@@ -293,11 +316,10 @@ class SlamNode(NavLifecycleNode):
             return response
         free = request.free_thresh or SAVE_FREE_THRESH
         occupied = request.occupied_thresh or SAVE_OCCUPIED_THRESH
-        with self._slam_lock:
-            if self.slam is None or not self.slam.poses.size:
-                self.get_logger().error("save_map: no map yet (no scan processed)")
-                return response
-            data, spec = self.slam.occupancy()
+        if self.slam is None or not self.slam.poses.size:
+            self.get_logger().error("save_map: no map yet (no scan processed)")
+            return response
+        data, spec = self.slam.occupancy()
         base = Path(request.map_url or "map").expanduser()
         try:
             yaml_path, _ = save_map(OccupancyMap(data, spec), base, free_thresh=free,
@@ -311,10 +333,14 @@ class SlamNode(NavLifecycleNode):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the node (``--ros-args --params-file config/nav2_params.yaml``; ``--autostart`` brings it up)."""
-    from nav_stack.ros.node_runner import run
+    """Run the node: ``[--autostart] [--executor events|single] --ros-args --params-file
+    config/nav2_params.yaml``. ``--autostart`` configures and activates it (else a lifecycle manager
+    does); with ``use_sim_time`` the process takes part in lockstep as ``slam``."""
+    from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
-    return run(lambda: [SlamNode()], argv)
+    autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
+    return run_nodes(lambda: [SlamNode()], role="slam", rclpy_args=rclpy_args, executor=executor,
+                     autostart=autostart)
 
 
 if __name__ == "__main__":

@@ -23,6 +23,8 @@ import tty
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from ros_tools.runtime.executor import add_executor_argument
+
 LINEAR_STEP = 0.01  # m/s per key press (turtlebot3_teleop LIN_VEL_STEP_SIZE)
 ANGULAR_STEP = 0.1  # rad/s per key press (ANG_VEL_STEP_SIZE)
 LIMITS = {"waffle": (0.26, 1.82), "waffle_pi": (0.26, 1.82), "burger": (0.22, 2.84)}  # m/s, rad/s
@@ -91,6 +93,7 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--model", choices=sorted(LIMITS), default="waffle", help="speed limits of this TB3")
     parser.add_argument("--keys", help="replay these keys (one per period), stop, and exit")
     parser.add_argument("--period", type=float, default=0.1, help="publish period (s, wall clock)")
+    add_executor_argument(parser)
     return parser.parse_args(argv)
 
 
@@ -101,6 +104,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from nav_stack.ros.cmd_vel import CmdVelPublisher
+    from ros_tools.runtime.executor import make_executor
 
     args_in = list(sys.argv[1:] if argv is None else argv)
     split = args_in.index("--ros-args") if "--ros-args" in args_in else len(args_in)
@@ -110,25 +114,35 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     rclpy.init(args=["nav-teleop", *args_in[split:]])
     node = Node("teleop_keyboard")
+    executor = make_executor(args.executor)
+    executor.add_node(node)
     stamped = bool(node.declare_parameter("enable_stamped_cmd_vel", False).value)
     cmd = CmdVelPublisher(node, stamped)
     state = TeleopState(*LIMITS[args.model])
+
+    def pause() -> None:
+        """Serve the node for one period (the main loop's pacing; no callback waits)."""
+        deadline = time.monotonic() + args.period
+        while (left := deadline - time.monotonic()) > 0:
+            executor.spin_once(timeout_sec=left)
+
     try:
         if args.keys is not None:
             deadline = time.monotonic() + SUBSCRIBER_WAIT
             while cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
-                rclpy.spin_once(node, timeout_sec=args.period)  # a replay sent before discovery is lost
+                pause()  # a replay sent before discovery is lost
             for key in args.keys:
                 state.press(key)
                 cmd.publish(state.linear, state.angular)
-                rclpy.spin_once(node, timeout_sec=args.period)
+                pause()
         else:
             _interactive(cmd, state, args.period)
     except KeyboardInterrupt:
         pass
     finally:
         cmd.stop()
-        rclpy.spin_once(node, timeout_sec=args.period)  # let the stop leave before the node goes
+        pause()  # let the stop leave before the node goes
+        executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown()
     return 0

@@ -17,7 +17,6 @@ so exposing it on a network interface is an explicit ``--host`` choice.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import threading
 import time
@@ -27,15 +26,16 @@ from typing import Any
 
 import rclpy
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from ros_tools.bag.reader import BagError
-from ros_tools.bag.recorder import Recorder, RecordOptions
+from ros_tools.bag.recorder import SPIN_SLICE, Recorder, RecordOptions, spin_for
 from ros_tools.bag.schema import SCHEMA_ENCODING, message_definition
 from ros_tools.bag.status import StatusLine, topic_counts
+from ros_tools.runtime.executor import make_executor
 from ros_tools.types import parse_type_name
 
 #: Message encoding of every channel: the subscriptions deliver serialized CDR bytes.
@@ -121,7 +121,8 @@ class FoxgloveBridge:
     """A node that subscribes like the recorder, and the SDK's WebSocket server that streams it.
 
     ``context`` is an initialised rclpy Context (tests pass their own). :meth:`start` spins the
-    node in a background thread; :meth:`close` stops the server and destroys the node.
+    node in a background thread (the main thread redraws the status); :meth:`close` stops the
+    server and the spinning, then destroys the node. The executor is ``selection.executor``.
     """
 
     def __init__(self, options: FoxgloveOptions, context: Any, sdk: ModuleType | None = None) -> None:
@@ -137,8 +138,9 @@ class FoxgloveBridge:
         selection = options.selection
         self.node = Node(f"foxglove_bridge_{os.getpid()}", context=context,
                          parameter_overrides=[Parameter("use_sim_time", value=selection.use_sim_time)])
-        self.executor = SingleThreadedExecutor(context=context)
+        self.executor = make_executor(selection.executor, context)
         self.executor.add_node(self.node)
+        self._stopping = False
         self.recorder = Recorder(self.node, self.sink, selection)
         self.node.create_timer(selection.discovery_period, self.recorder.discover,
                                clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -151,8 +153,17 @@ class FoxgloveBridge:
         return f"ws://{host}:{self.server.port}"
 
     def _spin(self) -> None:
-        with contextlib.suppress(ExternalShutdownException):  # the context was shut down under us
-            self.executor.spin()
+        # Slices, not executor.spin(): on this rclpy the EventsExecutor's spin() without a timeout
+        # never runs a callback (and holds the GIL); a slice also lets close() stop the loop.
+        while not self._stopping and self.executor.context.ok():
+            try:
+                spin_for(self.executor, SPIN_SLICE)
+            except ExternalShutdownException:  # the context was shut down under us
+                return
+            except Exception as exc:  # one bad message must not stop the stream
+                if not self.executor.context.ok():
+                    return
+                self.node.get_logger().error(f"foxglove: a callback raised {exc!r}")
 
     def start(self) -> FoxgloveBridge:
         self.recorder.discover()
@@ -161,9 +172,10 @@ class FoxgloveBridge:
 
     def close(self) -> None:
         self.server.stop()
-        self.executor.shutdown(timeout_sec=5.0)
+        self._stopping = True
         if self._thread.is_alive():
             self._thread.join(timeout=5.0)
+        self.executor.shutdown(timeout_sec=5.0)
         self.sink.close()
         self.node.destroy_node()
 

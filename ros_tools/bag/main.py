@@ -22,6 +22,7 @@ import sys
 from pathlib import Path
 
 from ros_tools.bag.reader import BagError
+from ros_tools.runtime.executor import add_executor_argument
 
 
 def _record(args: argparse.Namespace) -> int:
@@ -31,7 +32,7 @@ def _record(args: argparse.Namespace) -> int:
         output=Path(args.output), topics=tuple(args.topics), all_topics=args.all, regex=args.regex,
         exclude_regex=args.exclude_regex, include_hidden=args.include_hidden_topics,
         max_duration=args.max_duration, use_sim_time=args.use_sim_time, compression=args.compression,
-        topic_timeout=args.topic_timeout,
+        topic_timeout=args.topic_timeout, executor=args.executor,
     )
     run_record(options)
     return 0
@@ -44,7 +45,7 @@ def _foxglove(args: argparse.Namespace) -> int:
     selection = RecordOptions(
         output=Path(os.devnull), topics=tuple(args.topics), all_topics=args.all, regex=args.regex,
         exclude_regex=args.exclude_regex, include_hidden=args.include_hidden_topics,
-        use_sim_time=args.use_sim_time, discovery_period=DISCOVERY_PERIOD,
+        use_sim_time=args.use_sim_time, discovery_period=DISCOVERY_PERIOD, executor=args.executor,
     )
     options = FoxgloveOptions(selection=selection, host=args.host, port=args.port)
     try:
@@ -69,7 +70,7 @@ def _play(args: argparse.Namespace) -> int:
 
     options = PlayOptions(
         bag=Path(args.bag), rate=args.rate, loop=args.loop, clock_hz=args.clock, topics=tuple(args.topics),
-        delay=args.delay, wait_for_subscribers=args.wait_for_subscribers,
+        delay=args.delay, wait_for_subscribers=args.wait_for_subscribers, executor=args.executor,
     )
     run_play(options)
     return 0
@@ -101,6 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
     rec.add_argument("--compression", choices=("zstd", "lz4", "none"), default="zstd")
     rec.add_argument("--topic-timeout", type=float, default=10.0, metavar="S",
                      help="listed topics must get a publisher within S wall seconds (0 = wait forever)")
+    add_executor_argument(rec)
     rec.set_defaults(handler=_record)
 
     info = sub.add_parser("info", help="summarise a recording like ros2 bag info")
@@ -118,6 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="wait S seconds before playing")
     play.add_argument("--wait-for-subscribers", type=float, default=0.0, metavar="S",
                       help="wait up to S seconds until every topic has a subscriber")
+    add_executor_argument(play)
     play.set_defaults(handler=_play)
 
     rep = sub.add_parser("report", help="draw a run report PNG from a recording")
@@ -134,6 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
     fox.add_argument("--host", default="127.0.0.1", help="bind address (default: %(default)s, loopback)")
     fox.add_argument("--port", type=int, default=8765, help="TCP port (default: %(default)s; 0 = any free)")
     fox.add_argument("--use-sim-time", action="store_true", help="stamp messages with /clock time")
+    add_executor_argument(fox)
     fox.set_defaults(handler=_foxglove)
     return parser
 

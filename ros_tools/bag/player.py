@@ -23,7 +23,6 @@ from typing import Any
 import rclpy
 from builtin_interfaces.msg import Time
 from rclpy.duration import Duration
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
@@ -31,8 +30,9 @@ from rosgraph_msgs.msg import Clock
 
 from ros_tools.bag.qos import parse_offered_qos, playback_profile
 from ros_tools.bag.reader import BagError, BagReader
-from ros_tools.bag.recorder import full_topic_name
+from ros_tools.bag.recorder import full_topic_name, spin_for
 from ros_tools.bag.status import StatusLine
+from ros_tools.runtime.executor import make_executor
 from ros_tools.types import import_type
 
 CLOCK_TOPIC = "/clock"
@@ -53,6 +53,7 @@ class PlayOptions:
             topic has a matched subscriber; 0 = do not wait.
         ack_timeout: seconds (wall clock) to wait at the end until reliable subscribers have
             acknowledged everything.
+        executor: ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
 
     bag: Path
@@ -63,6 +64,7 @@ class PlayOptions:
     delay: float = 0.0
     wait_for_subscribers: float = 0.0
     ack_timeout: float = 2.0
+    executor: str | None = None
 
     def __post_init__(self) -> None:
         if not self.rate > 0:
@@ -167,16 +169,16 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
         context = rclpy.Context()
         rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = Node(f"bag_player_{os.getpid()}", context=context)
-        executor = SingleThreadedExecutor(context=context)
+        executor = make_executor(options.executor, context)
         executor.add_node(node)
         try:
-            player = Player(node, reader, options, lambda seconds: executor.spin_once(timeout_sec=seconds))
+            player = Player(node, reader, options, lambda seconds: spin_for(executor, seconds))
             lonely = player.wait_for_subscribers() if options.wait_for_subscribers > 0 else []
             if lonely:
                 status.finish(f"warning: no subscriber on {', '.join(lonely)}; playing anyway")
             end = time.monotonic() + options.delay
             while (left := end - time.monotonic()) > 0:
-                executor.spin_once(timeout_sec=left)
+                spin_for(executor, left)
             duration = reader.duration_ns / 1e9
 
             def progress(p: Player) -> None:

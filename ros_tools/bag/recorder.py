@@ -23,10 +23,10 @@ from typing import Any, Protocol
 
 import rclpy
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.validate_full_topic_name import validate_full_topic_name
 
@@ -34,7 +34,10 @@ from ros_tools.bag.qos import offered_qos_yaml, request_for_offers
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.status import StatusLine, topic_counts
 from ros_tools.bag.writer import BagWriter
+from ros_tools.runtime.executor import make_executor
 from ros_tools.types import import_type
+
+SPIN_SLICE = 0.05  # wall s the main loop serves callbacks between its checks
 
 
 def full_topic_name(name: str) -> str:
@@ -69,6 +72,7 @@ class RecordOptions:
         discovery_period: seconds (wall clock) between graph polls for new topics.
         topic_timeout: seconds (wall clock) within which every listed topic must get a publisher;
             0 waits forever.
+        executor: ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
 
     output: Path
@@ -82,6 +86,7 @@ class RecordOptions:
     compression: str = "zstd"
     discovery_period: float = 0.1
     topic_timeout: float = 10.0
+    executor: str | None = None
     _patterns: tuple[Any, Any] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -200,6 +205,12 @@ class Recorder:
         }
 
 
+def spin_for(executor: Any, seconds: float) -> None:
+    """Serve callbacks for ``seconds`` (wall) in one call: the EventsExecutor then runs every event
+    in C++ without a Python round trip per message (``spin_once`` returns after each one)."""
+    executor.spin_until_future_complete(Future(), timeout_sec=seconds)
+
+
 def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict[str, int]:
     """Record until ``max_duration``, Ctrl-C/SIGTERM (KeyboardInterrupt) or a missing topic.
 
@@ -215,7 +226,7 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
     rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
     node = Node(f"bag_recorder_{os.getpid()}", context=context,
                 parameter_overrides=[Parameter("use_sim_time", value=options.use_sim_time)])
-    executor = SingleThreadedExecutor(context=context)
+    executor = make_executor(options.executor, context)
     executor.add_node(node)
     recorder = Recorder(node, writer, options, warn=lambda text: status.finish(f"warning: {text}"))
     steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -224,7 +235,7 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
     try:
         recorder.discover()
         while not recorder.finished():
-            executor.spin_once(timeout_sec=0.05)
+            spin_for(executor, SPIN_SLICE)
             missing = recorder.missing()
             if missing and options.topic_timeout and time.monotonic() - started > options.topic_timeout:
                 reasons = "; ".join(f"{topic} ({why})" for topic, why in missing.items())

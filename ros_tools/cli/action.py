@@ -135,7 +135,7 @@ def _send_goal(
     result_future = handle.get_result_async()
     try:
         while not result_future.done():
-            session.executor.spin_once(timeout_sec=0.1)
+            session.spin_once(0.1)
     except KeyboardInterrupt:
         print("Canceling goal...", flush=True)
         session.wait_future(handle.cancel_goal_async(), timeout, f"'{name}' to cancel the goal")

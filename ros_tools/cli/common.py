@@ -17,12 +17,14 @@ from typing import Any
 
 import rclpy
 from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.utilities import try_shutdown
+
+from ros_tools.runtime.executor import make_executor
 
 #: Minimum seconds list/info verbs listen to DDS discovery before answering (ros2cli's default).
 DEFAULT_SPIN_TIME = 0.5
@@ -37,18 +39,46 @@ class CliError(Exception):
     """A user-facing failure; ``main`` prints it as one line on stderr and exits with code 1."""
 
 
+_interrupted = [False]
+
+
+def request_interrupt(_signum: int = 0, _frame: object = None) -> None:
+    """A SIGINT/SIGTERM handler: note the request; the next :meth:`Session.spin_once` raises it.
+
+    Why not raise KeyboardInterrupt at once: the signal is handled wherever the main thread runs
+    Python, which is usually inside a subscription callback called by the executor; the
+    EventsExecutor then logs the interrupt as a FATAL callback exception before passing it on.
+    """
+    _interrupted[0] = True
+
+
 @dataclass
 class Session:
-    """The hidden CLI node and the executor that spins it (one per command invocation)."""
+    """The hidden CLI node and the executor that spins it (one per command invocation).
+
+    Verbs spin it from the main thread with bounded ``spin_once`` calls (never from a callback);
+    callbacks only store what arrives.
+    """
 
     node: Node
-    executor: SingleThreadedExecutor
+    executor: Executor
+
+    def spin_once(self, timeout: float) -> None:
+        """Run at most one callback, waiting up to ``timeout`` s for it.
+
+        Raises:
+            KeyboardInterrupt: Ctrl-C or SIGTERM arrived (see :func:`request_interrupt`).
+        """
+        self.executor.spin_once(timeout_sec=timeout)
+        if _interrupted[0]:
+            _interrupted[0] = False
+            raise KeyboardInterrupt
 
     def spin_for(self, seconds: float) -> None:
         """Process callbacks and discovery for ``seconds`` (wall clock)."""
         deadline = time.monotonic() + seconds
         while (left := deadline - time.monotonic()) > 0:
-            self.executor.spin_once(timeout_sec=min(left, 0.05))
+            self.spin_once(min(left, 0.05))
 
     def discover_graph(self, spin_time: float, timeout: float) -> None:
         """Listen to discovery until the graph looks complete (list verbs have no name to wait for).
@@ -74,7 +104,7 @@ class Session:
             settled = others and now - changed >= SETTLE_TIME
             if now - start >= spin_time and (settled or now - start >= timeout):
                 return
-            self.executor.spin_once(timeout_sec=0.05)
+            self.spin_once(0.05)
 
     def spin_until(self, predicate: Callable[[], bool], timeout: float, what: str) -> None:
         """Spin until ``predicate()`` holds.
@@ -86,7 +116,7 @@ class Session:
         while not predicate():
             if time.monotonic() > deadline:
                 raise CliError(f"timed out after {timeout:.1f} s waiting for {what}")
-            self.executor.spin_once(timeout_sec=0.05)
+            self.spin_once(0.05)
 
     def wait_future(self, future: Any, timeout: float, what: str) -> Any:
         """Spin until ``future`` completes and return its result (bounded by ``timeout``)."""
@@ -98,11 +128,12 @@ class Session:
 
 
 @contextmanager
-def ros_session() -> Iterator[Session]:
+def ros_session(executor_kind: str | None = None) -> Iterator[Session]:
     """Initialise rclpy, create the hidden ``_ros2py_<pid>`` node, and tear both down afterwards.
 
     rclpy's own SIGINT handler is disabled so Ctrl-C raises KeyboardInterrupt in the verb, which
     can then clean up (for example cancel a running action goal) while the context still works.
+    ``executor_kind``: ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     context = Context()
@@ -114,7 +145,7 @@ def ros_session() -> Iterator[Session]:
             f"_ros2py_{os.getpid()}", context=context, start_parameter_services=False,
             enable_rosout=False,
         )
-        executor = SingleThreadedExecutor(context=context)
+        executor = make_executor(executor_kind, context)
         executor.add_node(node)
         yield Session(node, executor)
     finally:

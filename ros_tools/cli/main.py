@@ -15,7 +15,8 @@ import signal
 import sys
 
 from ros_tools.cli import action, interface, node, param, service, topic
-from ros_tools.cli.common import CliError, ros_session
+from ros_tools.cli.common import CliError, request_interrupt, ros_session
+from ros_tools.runtime.executor import add_executor_argument
 
 _GROUPS = (topic, node, service, action, param, interface)
 
@@ -25,24 +26,23 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ros2py", description="ROS 2 command-line tools for a pip-installed ROS 2 (no ros2cli needed).",
     )
+    add_executor_argument(parser)
     groups = parser.add_subparsers(dest="group", metavar="COMMAND")
     for group in _GROUPS:
         group.register(groups)
     return parser
 
 
-def _raise_interrupt(_signum: int, _frame: object) -> None:
-    raise KeyboardInterrupt
-
-
 def _interrupt_on_signals() -> None:
     """Make SIGINT and SIGTERM end a verb through KeyboardInterrupt, so it can clean up.
 
-    A child started from a non-interactive shell in the background inherits an ignored SIGINT;
-    restoring it lets supervisors and tests stop streaming verbs (echo, hz, pub) with SIGINT.
+    The handler only notes the signal; the verb's next spin raises KeyboardInterrupt outside any
+    callback (common.request_interrupt). A child started from a non-interactive shell in the
+    background inherits an ignored SIGINT; installing a handler lets supervisors and tests stop
+    streaming verbs (echo, hz, pub) with SIGINT.
     """
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    signal.signal(signal.SIGTERM, _raise_interrupt)
+    signal.signal(signal.SIGINT, request_interrupt)
+    signal.signal(signal.SIGTERM, request_interrupt)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -58,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if getattr(args, "offline", False):
             return int(handler(args, None))
-        with ros_session() as session:
+        with ros_session(args.executor) as session:
             return int(handler(args, session))
     except CliError as exc:
         print(exc, file=sys.stderr)

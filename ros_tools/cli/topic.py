@@ -174,7 +174,7 @@ def run_echo(args: argparse.Namespace, session: Session) -> int:
             raise CliError(str(exc)) from None
     session.node.create_subscription(cls, topic, on_message, qos_from_args(args, session, topic))
     while not (args.once and received[0]):
-        session.executor.spin_once(timeout_sec=0.1)
+        session.spin_once(0.1)
     return 0
 
 
@@ -210,7 +210,7 @@ def run_hz(args: argparse.Namespace, session: Session) -> int:
     session.node.create_subscription(cls, topic, on_message, qos_from_args(args, session, topic), raw=True)
     session.node.create_timer(1.0, report)
     while True:
-        session.executor.spin_once(timeout_sec=0.1)
+        session.spin_once(0.1)
 
 
 def run_pub(args: argparse.Namespace, session: Session) -> int:
@@ -235,7 +235,7 @@ def run_pub(args: argparse.Namespace, session: Session) -> int:
     count = 0
     next_time = time.monotonic()
     while not times or count < times:
-        session.executor.spin_once(timeout_sec=max(0.0, next_time - time.monotonic()))
+        session.spin_once(max(0.0, next_time - time.monotonic()))
         if time.monotonic() < next_time:
             continue
         # Built anew each time so that 'now' and 'auto' stamps are fresh.

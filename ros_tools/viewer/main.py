@@ -1,7 +1,7 @@
 """``navsuite-viewer``: serve the live viewer on loopback with one command.
 
     navsuite-viewer [--host 127.0.0.1] [--port 8080] [--rate 10] [--frame map] [--sim-time auto]
-                    [--ros-args ...]
+                    [--executor events|single] [--ros-args ...]
 
 Prints ``viewer: http://HOST:PORT/`` once serving (``--port 0`` picks a free port). Ctrl-C stops it.
 DDS stays on this machine unless the user chose ROS_AUTOMATIC_DISCOVERY_RANGE themselves.
@@ -10,7 +10,6 @@ DDS stays on this machine unless the user chose ROS_AUTOMATIC_DISCOVERY_RANGE th
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import sys
 import threading
@@ -18,26 +17,29 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
+from ros_tools.runtime.executor import add_executor_argument, make_executor
 from ros_tools.viewer.hub import LayerHub
 from ros_tools.viewer.params import SIM_TIME_MODES, ViewerParams
+
+SPIN_SLICE = 0.1  # wall s the ROS thread serves callbacks between checks of its stop flag
 
 
 class ViewerApp:
     """The node (spun by its own executor thread) and the HTTP server (its own thread), started together.
 
     ``context`` is an initialised rclpy Context (tests pass their own); ``close()`` stops both.
+    The ROS callbacks only hand messages to the hub; the HTTP threads convert and stream them.
     """
 
     def __init__(self, params: ViewerParams, context: Any = None) -> None:
-        from rclpy.executors import SingleThreadedExecutor
-
         from ros_tools.viewer.node import ViewerNode
         from ros_tools.viewer.server import ViewerServer
 
         self.hub = LayerHub()
         self.node = ViewerNode(self.hub, params, context=context)
-        self.executor = SingleThreadedExecutor(context=context)
+        self.executor = make_executor(params.executor, context)
         self.executor.add_node(self.node)
+        self._stopping = False
         try:
             self.server = ViewerServer(params.host, params.port, self.hub, self.node, params.rate,
                                        params.keepalive)
@@ -52,10 +54,24 @@ class ViewerApp:
         return self.server.url
 
     def _spin(self) -> None:
-        from rclpy.executors import ExternalShutdownException
+        """Serve callbacks in slices until ``close()`` or Ctrl-C / SIGTERM (rclpy shuts the context down).
 
-        with contextlib.suppress(ExternalShutdownException):  # Ctrl-C / SIGTERM: rclpy shut the context down
-            self.executor.spin()
+        Slices, not ``executor.spin()``: on this rclpy the EventsExecutor's spin() without a timeout
+        never runs a callback (and holds the GIL); a slice runs every event in C++ and lets the loop
+        see the stop flag. A callback that raises is logged and the viewer keeps serving.
+        """
+        from rclpy.executors import ExternalShutdownException
+        from rclpy.task import Future
+
+        while not self._stopping and self.executor.context.ok():
+            try:
+                self.executor.spin_until_future_complete(Future(), timeout_sec=SPIN_SLICE)
+            except ExternalShutdownException:
+                return
+            except Exception as exc:  # one bad message must not stop the viewer
+                if not self.executor.context.ok():
+                    return
+                self.node.get_logger().error(f"viewer: a callback raised {exc!r}")
 
     def start(self) -> ViewerApp:
         for thread in self._threads:
@@ -64,9 +80,10 @@ class ViewerApp:
 
     def close(self) -> None:
         self.server.close()
-        self.executor.shutdown(timeout_sec=5.0)
+        self._stopping = True
         for thread in self._threads:
             thread.join(timeout=5.0)
+        self.executor.shutdown(timeout_sec=5.0)
         self.node.destroy_node()
 
 
@@ -85,9 +102,11 @@ def parse_args(argv: Sequence[str]) -> tuple[ViewerParams, list[str]]:
                         help="display (fixed) frame (default: map)")
     parser.add_argument("--sim-time", default=defaults.sim_time, choices=SIM_TIME_MODES,
                         help="use /clock for stamps: auto = when a /clock publisher exists")
+    add_executor_argument(parser)
     ns = parser.parse_args(own)
     try:
-        params = ViewerParams(host=ns.host, port=ns.port, rate=ns.rate, frame=ns.frame, sim_time=ns.sim_time)
+        params = ViewerParams(host=ns.host, port=ns.port, rate=ns.rate, frame=ns.frame, sim_time=ns.sim_time,
+                              executor=ns.executor)
     except ValueError as exc:
         parser.error(str(exc))
     return params, ros_args

@@ -23,6 +23,7 @@ class ViewerParams:
         max_poses: most poses per path or particle cloud sent to the page (evenly decimated).
         discovery_period: how often the ROS graph is scanned for new topics (s, wall clock).
         keepalive: a stream with no change sends an SSE comment this often (s) to detect closed tabs.
+        executor: rclpy executor, ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
 
     host: str = "127.0.0.1"
@@ -34,6 +35,7 @@ class ViewerParams:
     max_poses: int = 2000
     discovery_period: float = 1.0
     keepalive: float = 10.0
+    executor: str | None = None
 
     def __post_init__(self) -> None:
         if not 0 <= self.port <= 65535:

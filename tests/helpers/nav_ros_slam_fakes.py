@@ -62,14 +62,19 @@ class FakeRobot(Node):
         self.tf_static = StaticTransformBroadcaster(self)
         self.tf_static.send([transform_to_msg(Transform(LASER_X, 0.0, 0.122), "base_footprint", "base_scan",
                                               stamp(0.0))])
+        self.sent: list[tuple[Pose2D, LaserScanMsg]] = []  # (odometry pose, scan) of every step
 
-    def step(self, pose: Pose2D, before_scan: Callable[[float], None] | None = None) -> float:
+    def step(self, pose: Pose2D, before_scan: Callable[[float], None] | None = None,
+             scan_first: bool = False) -> float:
         """Publish the robot at world ``pose``: its odometry TF, then ``before_scan(stamp)`` if given
-        (e.g. to wait until the node has that TF), then the scan; returns the stamp (s) used."""
+        (e.g. to wait until the node has that TF), then the scan; returns the stamp (s) used.
+        ``scan_first`` sends the scan before its odometry instead (the node must wait for it)."""
         self.time += SCAN_PERIOD
         odom = compose(inverse(self.odom_origin), pose)
         when = stamp(self.time)
-        self.tf.send([transform_to_msg(Transform.from_xy_yaw(*odom), "odom", "base_footprint", when)])
+        odom_msg = transform_to_msg(Transform.from_xy_yaw(*odom), "odom", "base_footprint", when)
+        if not scan_first:
+            self.tf.send([odom_msg])
         if before_scan is not None:
             before_scan(self.time)
         c, s = math.cos(pose.yaw), math.sin(pose.yaw)
@@ -82,4 +87,7 @@ class FakeRobot(Node):
         msg.range_min, msg.range_max = scan.range_min, scan.range_max
         msg.ranges = [float(r) for r in scan.ranges]
         self.scan_pub.publish(msg)
+        if scan_first:
+            self.tf.send([odom_msg])
+        self.sent.append((odom, msg))
         return self.time

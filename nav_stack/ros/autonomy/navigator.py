@@ -102,4 +102,7 @@ class RosNavigator:
         return goal
 
     def destroy(self) -> None:
-        self._client.destroy()
+        """Destroy the action client unless it is gone already (the runner's teardown destroys every
+        waitable of a node before the node itself)."""
+        if any(waitable is self._client for waitable in self.node.waitables):
+            self._client.destroy()

@@ -14,6 +14,11 @@ normal outcome when the battery is empty) is a warning naming the leaf that fail
 Configuration errors (unknown node in the tree, missing or malformed location, bad parameter)
 print one line naming the file and item and exit with code 2.
 
+Nothing waits in a callback: the tick timer polls each running leaf (GoToPose's goal is a future with
+done-callbacks, WaitSeconds compares tree times), so one executor thread (the EventsExecutor by
+default, ``--executor single`` for rclpy's SingleThreadedExecutor) serves the whole node. Under
+``use_sim_time`` the process takes part in lockstep as ``autonomy``.
+
     nav-autonomy --ros-args --params-file config/autonomy.yaml -p battery_source:=counter
 """
 
@@ -40,6 +45,7 @@ from nav_stack.ros.autonomy.locations import check_tree_locations, load_location
 from nav_stack.ros.autonomy.navigator import RosNavigator
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
 from nav_stack.ros.params import declare_dataclass
+from ros_tools.runtime.executor import add_executor_argument
 
 REPO = Path(__file__).resolve().parents[3]
 BATTERY_SOURCES = ("topic", "counter")
@@ -224,13 +230,15 @@ class AutonomyNode(Node):
         self._publish_changes(force_ascii=False)
 
     def destroy_node(self) -> None:
+        """Halt (cancelling a running goal while the action client still exists), then destroy."""
         self.stop()
         self.navigator.destroy()
         super().destroy_node()
 
 
-def _ros_args(argv: Sequence[str]) -> list[str]:
-    """Turn the command-line flags into rclpy arguments; everything after --ros-args passes through."""
+def _ros_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
+    """(rclpy arguments, ``--executor`` choice): the flags become ``-p`` parameters; everything after
+    --ros-args passes through."""
     argv = list(argv)
     tail = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
     head = argv[: len(argv) - len(tail)]
@@ -246,43 +254,55 @@ def _ros_args(argv: Sequence[str]) -> list[str]:
     parser.add_argument("--battery-source", choices=("topic", "counter"),
                         help="/battery_state from the simulator (default) or the seed's counter")
     parser.add_argument("--max-cycles", type=int, help="stop after N root results (default 0: forever)")
-    args = parser.parse_args(head)
-    params = [f"{name}:={value}" for name, value in vars(args).items() if value is not None]
+    add_executor_argument(parser)
+    args = vars(parser.parse_args(head))
+    executor = args.pop("executor")
+    params = [f"{name}:={value}" for name, value in args.items() if value is not None]
     if not params:
-        return ["nav-autonomy", *tail]
+        return ["nav-autonomy", *tail], executor
     if not tail:
         tail = ["--ros-args"]
-    return ["nav-autonomy", *tail, *(arg for param in params for arg in ("-p", param))]
+    return ["nav-autonomy", *tail, *(arg for param in params for arg in ("-p", param))], executor
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until ``max_cycles`` or Ctrl-C; exit 2 with one line on a configuration error."""
-    args = _ros_args(sys.argv[1:] if argv is None else argv)
+    args, executor_kind = _ros_args(sys.argv[1:] if argv is None else argv)
     import rclpy
-    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+    from rclpy.executors import ExternalShutdownException
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+    from ros_tools.runtime.executor import make_executor
+    from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
+    from ros_tools.runtime.runner import destroy_nodes
 
     rclpy.init(args=args)
     node: AutonomyNode | None = None
+    participant: LockstepParticipant | None = None
+    executor = make_executor(executor_kind)
     try:
         try:
             node = AutonomyNode()
         except ValueError as error:  # LocationsError, BtLoadError, parameter errors
             print(f"autonomy_node: {error}".replace("\n", " "), file=sys.stderr, flush=True)
             return EXIT_CONFIG
-        executor = SingleThreadedExecutor()
         executor.add_node(node)
+        participant = LockstepParticipant(node, "autonomy") if uses_sim_time(node) else None
+        # The run may end by itself (max_cycles), which the runner's spin-until-shutdown cannot
+        # express: the main thread spins until the node says it finished (no callback ever waits).
         while rclpy.ok() and not node.finished:
             executor.spin_once(timeout_sec=0.1)
         return 0
     except (KeyboardInterrupt, ExternalShutdownException):
         return 0
     finally:
-        if node is not None:
-            node.destroy_node()
-        if rclpy.ok():
-            rclpy.shutdown()
+        if node is not None and rclpy.ok():
+            node.stop()  # halt first: a running goal is cancelled while its client still exists
+        if participant is not None and rclpy.ok():
+            participant.destroy()
+        executor.shutdown()
+        destroy_nodes([node] if node is not None else [])
+        rclpy.try_shutdown()
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ import pytest
 pytest.importorskip("nav2_msgs.action")
 
 from nav2_msgs.msg import BehaviorTreeLog
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from sensor_msgs.msg import BatteryState
@@ -22,6 +22,7 @@ from sensor_msgs.msg import BatteryState
 from nav_stack.core.bt import NodeStatus
 from nav_stack.ros.autonomy.locations import load_locations, nearest_location
 from nav_stack.ros.autonomy.node import AutonomyNode
+from ros_tools.runtime.executor import make_executor
 from tests.helpers.ros import REPO, spin_until, start_python
 from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
 
@@ -37,7 +38,7 @@ class Rig:
     fake: FakeNav2
     node: AutonomyNode
     probe: Node
-    executor: SingleThreadedExecutor
+    executor: Executor
     bt_logs: list[BehaviorTreeLog]
 
     def visited(self) -> list[str | None]:
@@ -46,7 +47,8 @@ class Rig:
                 for g in goals]
 
 
-def start(context: Any, scripts: dict[str, list[str]] | None = None, **params: Any) -> Rig:
+def start(context: Any, scripts: dict[str, list[str]] | None = None, executor_kind: str = "events",
+          **params: Any) -> Rig:
     fake = FakeNav2(context, scripts=scripts, clock_rate=20.0).start()
     overrides = [Parameter("use_sim_time", value=True), Parameter("server_timeout", value=20.0)]
     overrides += [Parameter(k, value=v) for k, v in params.items()]
@@ -54,7 +56,7 @@ def start(context: Any, scripts: dict[str, list[str]] | None = None, **params: A
     probe = Node("autonomy_probe", context=context)
     logs: list[BehaviorTreeLog] = []
     probe.create_subscription(BehaviorTreeLog, "/behavior_tree_log", logs.append, 100)
-    executor = SingleThreadedExecutor(context=context)
+    executor = make_executor(executor_kind, context)
     executor.add_node(node)
     executor.add_node(probe)
     return Rig(fake, node, probe, executor, logs)
@@ -73,8 +75,10 @@ def rigs(ros_context) -> Iterator[list[Rig]]:
             rig.fake.stop()
 
 
-def test_seed_tree_runs_two_full_cycles_in_the_seed_order(ros_context, rigs):
-    rig = start(ros_context, battery_source="counter", max_cycles=4, tree_file=str(V3))
+@pytest.mark.parametrize("executor_kind", ["events", "single"])
+def test_seed_tree_runs_two_full_cycles_in_the_seed_order(ros_context, rigs, executor_kind):
+    rig = start(ros_context, executor_kind=executor_kind, battery_source="counter", max_cycles=4,
+                tree_file=str(V3))
     rigs.append(rig)
     spin_until(rig.executor, lambda: rig.node.finished, 60.0, "four root results")
     assert rig.visited() == SEED_VISITS * 2
@@ -160,3 +164,18 @@ def test_missing_location_exits_2_with_one_line(tmp_path: Path):
     errors = [line for line in result.stdout.splitlines() if line.startswith("autonomy_node:")]
     assert len(errors) == 1 and errors[0].startswith(
         f"autonomy_node: {locations}: location 'station' used by GoToPose 'go_to_station'"), result.stdout
+
+
+def test_main_ends_by_itself_after_max_cycles(ros_context):
+    """``python -m nav_stack.ros.autonomy.node`` on the default EventsExecutor: the seed's first cycle
+    against the fake (four legs, then CheckBattery fails), then a clean exit 0."""
+    fake = FakeNav2(ros_context, clock_rate=20.0).start()
+    try:
+        result = run_node("battery_source:=counter", "max_cycles:=1", "use_sim_time:=true",
+                          "server_timeout:=30.0", f"tree_file:={V3}")
+    finally:
+        fake.stop()
+    assert result.returncode == 0, result.stdout
+    assert "cycle 1: root FAILURE at 'check_battery4'" in result.stdout, result.stdout
+    assert "finished 1 cycles; visited: location1, location2, location3, location4" in result.stdout
+    assert "Traceback" not in result.stdout, result.stdout

@@ -17,8 +17,9 @@ from rclpy.parameter import Parameter
 
 from nav_stack.ros.amcl_node import AmclNode
 from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+from ros_tools.runtime.executor import make_executor
 from tests.helpers.nav_ros_loc_fakes import FakeRobot
-from tests.helpers.ros import spin_until
+from tests.helpers.ros import spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 
@@ -48,10 +49,11 @@ def test_publishes_until_amcl_confirms_the_seed_pose(ros_context: Any) -> None:
             node.destroy_node()
 
 
-def test_gives_up_after_its_timeout_without_amcl(ros_context: Any) -> None:
+@pytest.mark.parametrize("executor_kind", ["events", "single"])
+def test_gives_up_after_its_timeout_without_amcl(ros_context: Any, executor_kind: str) -> None:
     overrides = [Parameter("timeout", value=0.5)]
     publisher = InitialPosePublisher(context=ros_context, parameter_overrides=overrides)
-    executor = SingleThreadedExecutor(context=ros_context)
+    executor = make_executor(executor_kind, ros_context)
     executor.add_node(publisher)
     try:
         spin_until(executor, lambda: publisher.done is not None, 10.0, "the timeout")
@@ -59,3 +61,11 @@ def test_gives_up_after_its_timeout_without_amcl(ros_context: Any) -> None:
     finally:
         executor.shutdown()
         publisher.destroy_node()
+
+
+def test_main_exits_1_after_its_timeout() -> None:
+    """The process on the default EventsExecutor ends by itself (no AMCL: exit 1, no traceback)."""
+    proc = start_python("nav_stack.ros.initial_pose_publisher", ["--ros-args", "-p", "timeout:=0.5"])
+    output = stop_process(proc, timeout=30.0) if proc.wait(timeout=30.0) is not None else ""
+    assert proc.returncode == 1, output
+    assert "did not confirm the initial pose within 0.5 s" in output and "Traceback" not in output, output

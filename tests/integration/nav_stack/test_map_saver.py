@@ -1,4 +1,8 @@
-"""map_saver: save_map service and map_saver_cli round trips, overwrite protection, bad formats."""
+"""map_saver: save_map service and map_saver_cli round trips, overwrite protection, bad formats.
+
+The service tests run on both executors (the EventsExecutor cannot await a service callback itself;
+map_saver.serve_deferred answers later), and one checks that a save waiting for its map blocks nothing.
+"""
 
 from __future__ import annotations
 
@@ -22,17 +26,18 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
 from nav_stack.ros.map_saver import MapSaver
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.executor import make_executor
 from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
-from tests.helpers.ros import start_python, stop_process, wait_until
+from tests.helpers.ros import spin_until, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 
 
 class Graph:
-    def __init__(self, context: Any) -> None:
+    def __init__(self, context: Any, executor: str) -> None:
         self.saver = MapSaver(context=context)
         self.probe = Node("saver_probe", context=context)
-        self.executor = SingleThreadedExecutor(context=context)
+        self.executor = make_executor(executor, context)
         self.executor.add_node(self.saver)
         self.executor.add_node(self.probe)
         self.map_pub = self.probe.create_publisher(OccupancyGrid, "/map", LATCHED)
@@ -47,9 +52,9 @@ class Graph:
         return bool(call(self.executor, self.client, SaveMap.Request(**fields)).result)
 
 
-@pytest.fixture
-def graph(ros_context: Any) -> Iterator[Graph]:
-    g = Graph(ros_context)
+@pytest.fixture(params=["events", "single"])
+def graph(ros_context: Any, request: Any) -> Iterator[Graph]:
+    g = Graph(ros_context, request.param)
     try:
         yield g
     finally:
@@ -87,6 +92,31 @@ def test_service_refuses_overwrite_and_unknown_formats(graph: Graph, tmp_path: P
     assert not graph.save(map_url=str(tmp_path / "png"), image_format="png")
     assert not graph.save(map_url=str(tmp_path / "mode"), map_mode="fancy")
     assert not (tmp_path / "png.pgm").exists() and not (tmp_path / "mode.pgm").exists()
+
+
+def test_a_save_waiting_for_its_map_blocks_no_callback(graph: Graph, tmp_path: Path) -> None:
+    """The map arrives only after the request: meanwhile the same executor keeps serving the saver's
+    lifecycle service and the probe's subscriptions, then the save succeeds with that map."""
+    from lifecycle_msgs.srv import GetState
+
+    spec = GridSpec(9, 5, 0.05, 0.0, 0.0)
+    data = np.zeros(spec.shape, dtype=np.int8)
+    spin_until(graph.executor, graph.client.service_is_ready, 10.0, "the save_map service")
+    timers = len(list(graph.saver.timers))  # the bond heartbeat
+    late_pub = graph.probe.create_publisher(OccupancyGrid, "/late_map", LATCHED)
+    pending = graph.client.call_async(SaveMap.Request(map_url=str(tmp_path / "late"), map_topic="/late_map"))
+    get_state = graph.probe.create_client(GetState, "/map_saver/get_state")
+    state = call(graph.executor, get_state, GetState.Request())
+    assert state.current_state.label == "active" and not pending.done()
+    late_pub.publish(occupancy_msg(data, spec, "map", graph.probe.get_clock().now().to_msg()))
+    spin_until(graph.executor, pending.done, 10.0, "the answer of the waiting save")
+    assert pending.result().result
+    assert load_map(tmp_path / "late.yaml").spec == spec
+    # Nobody publishes: the timeout timer (save_map_timeout, 2 s steady) answers, and cleans up.
+    assert not graph.save(map_url=str(tmp_path / "never"), map_topic="/nobody_publishes_this")
+    assert not (tmp_path / "never.pgm").exists()
+    assert len(list(graph.saver.timers)) == timers and all(sub.topic_name != "/nobody_publishes_this"
+                                                for sub in graph.saver.subscriptions)
 
 
 def test_cli_saves_then_refuses_to_overwrite(ros_context: Any, tmp_path: Path) -> None:

@@ -24,12 +24,17 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import SetBool
 
+from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.map_io import load_map
+from nav_stack.core.slam import GridSlam
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_node import SlamNode
+from ros_tools.tf import Transform
 from ros_tools.tf.buffer import TransformError
-from tests.helpers.nav_ros_slam_fakes import START, TRUTH_SPEC, FakeRobot, tour
+from ros_tools.tf.ros import stamp_to_seconds, transform_from_msg, transform_to_msg
+from tests.helpers.nav_ros_slam_fakes import LASER_X, START, TRUTH_SPEC, FakeRobot, tour
 from tests.helpers.nav_ros_world import Harness
 from tests.helpers.ros import wait_until
 from tests.helpers.slam_world import iou_dilated, resample_to
@@ -61,7 +66,7 @@ class Probe(Node):
 
 @pytest.fixture
 def rig(ros_context: Any) -> Any:
-    harness = Harness(ros_context, threads=4)
+    harness = Harness(ros_context)
     overrides = [Parameter("map_start_pose", value=list(START)), Parameter("map_update_interval", value=1.0)]
     slam = SlamNode(context=ros_context, parameter_overrides=overrides)
     robot, probe = FakeRobot(context=ros_context), Probe(context=ros_context)
@@ -147,6 +152,28 @@ def test_pause_ignores_scans_until_resumed(rig: Any) -> None:
     ignored = [s for s in probe.stamps() if paused_from < s <= resumed_at]
     assert ignored == [], f"poses published while paused: {ignored}"
     assert slam.slam is not None and len(slam.slam.poses) >= 2
+
+
+def test_a_scan_sent_before_its_odometry_waits_for_it(rig: Any) -> None:
+    """Each scan goes out before the odometry TF at its stamp: the node parks it, retries when the TF
+    arrives, drops none, and maps exactly what the pure core maps from the same inputs in order."""
+    slam, robot, probe = rig
+    for pose in tour(robot.world)[:30]:
+        t = robot.step(pose, scan_first=True)
+        wait_until(lambda t=t: any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:]), 10.0,
+                   f"slam/pose of the scan at {t:.1f} s")
+    assert slam.parked_scans > 0, "no scan arrived before its odometry: the test did not test waiting"
+    assert slam.dropped_scans == 0
+    core = GridSlam(slam.params)
+    for odom, msg in robot.sent:
+        seen = transform_from_msg(transform_to_msg(Transform.from_xy_yaw(*odom), "odom", "base_footprint",
+                                                   msg.header.stamp))  # what the node reads from TF
+        scan = LaserScan(np.asarray(msg.ranges, dtype=np.float64), msg.angle_min, msg.angle_increment,
+                         msg.range_min, msg.range_max)
+        core.process(scan, Pose2D(seen.x, seen.y, seen.yaw), stamp_to_seconds(msg.header.stamp),
+                     Pose2D(LASER_X, 0.0, 0.0))
+    assert slam.slam is not None
+    np.testing.assert_allclose(slam.slam.poses, core.poses, atol=1e-9)
 
 
 def test_save_map_writes_a_map_that_map_io_loads(rig: Any, tmp_path: Path) -> None:
