@@ -60,21 +60,59 @@ def destroy_nodes(nodes: Sequence[Any]) -> None:
                        exc_info=True)
 
 
-def spin_until_shutdown(executor: Any, name: str = "process") -> None:
-    """Spin until the context shuts down (Ctrl-C, SIGTERM, ``rclpy.shutdown``), logging callback faults."""
+def spin_until_shutdown(executor: Any, name: str = "process",
+                        stopped: Callable[[], bool] | None = None) -> None:
+    """Spin until the context shuts down (Ctrl-C, SIGTERM, ``rclpy.shutdown``) or ``stopped()``,
+    logging callback faults.
+
+    A thread spinning in the background must be stopped (``stopped``) and joined before
+    ``executor.shutdown()``: the EventsExecutor's shutdown waits for a gap between two spins, and a
+    loop that spins again at once may never leave it one.
+
+    In the main thread, Ctrl-C and SIGTERM only raise a flag that the loop checks between callbacks:
+    a KeyboardInterrupt raised inside a callback would be logged by the EventsExecutor as a FATAL
+    "Exception in callback" in the middle of an orderly shutdown.
+    """
     from rclpy.executors import ExternalShutdownException
 
-    while executor.context.ok():
-        try:
-            # spin_once in a loop, not spin(): the EventsExecutor's spin() never returns to Python,
-            # so Ctrl-C would not reach us; spin_once hands back control at least every 0.1 s.
-            executor.spin_once(timeout_sec=SPIN_SLICE)
-        except (KeyboardInterrupt, ExternalShutdownException):
-            return
-        except Exception:
-            if not executor.context.ok():
+    stop = _StopOnSignal()
+    try:
+        while executor.context.ok() and not stop.requested and not (stopped is not None and stopped()):
+            try:
+                # spin_once in a loop, not spin(): the EventsExecutor's spin() never returns to
+                # Python; spin_once hands back control at least every SPIN_SLICE s.
+                executor.spin_once(timeout_sec=SPIN_SLICE)
+            except (KeyboardInterrupt, ExternalShutdownException):
                 return
-            _log.exception("%s: a callback raised; the executor keeps spinning", name)
+            except Exception:
+                if not executor.context.ok():
+                    return
+                _log.exception("%s: a callback raised; the executor keeps spinning", name)
+    finally:
+        stop.restore()
+
+
+class _StopOnSignal:
+    """While alive (main thread only), SIGINT and SIGTERM set ``requested`` instead of raising."""
+
+    def __init__(self) -> None:
+        import signal
+        import threading
+
+        self.requested = False
+        self._previous: dict[int, Any] = {}
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous[sig] = signal.signal(sig, self._on_signal)
+
+    def _on_signal(self, signum: int, frame: object) -> None:
+        self.requested = True
+
+    def restore(self) -> None:
+        import signal
+
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
 
 
 def activate(nodes: Sequence[Any]) -> None:
@@ -105,10 +143,14 @@ def run_nodes(build_nodes: BuildNodes, *, role: str, rclpy_args: Sequence[str] |
         on_start: called with (executor, nodes) just before spinning (readiness timers, banners).
     """
     import rclpy
+    from rclpy.signals import SignalHandlerOptions
 
     from ros_tools.shared_clock import share_sim_time
 
-    rclpy.init(args=list(sys.argv if rclpy_args is None else rclpy_args))
+    # The runner handles Ctrl-C and SIGTERM itself (spin_until_shutdown), so the context is still
+    # alive during teardown: nodes leave lockstep and cancel their goals on the way out.
+    rclpy.init(args=list(sys.argv if rclpy_args is None else rclpy_args),
+               signal_handler_options=SignalHandlerOptions.NO)
     nodes: list[Any] = []
     participant: LockstepParticipant | None = None
     spinner: Any = None

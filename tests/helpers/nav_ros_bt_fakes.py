@@ -14,7 +14,6 @@ is scripted through attributes:
 from __future__ import annotations
 
 import threading
-import time
 from typing import Any
 
 from geometry_msgs.msg import PoseStamped
@@ -30,10 +29,12 @@ from nav2_msgs.action import (
 )
 from nav2_msgs.srv import ClearEntireCostmap
 from nav_msgs.msg import Path
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.action import CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.node import Node
 
+from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.waiting import sleep, steady_clock
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
 from ros_tools.tf.transform import Transform
 
@@ -134,7 +135,7 @@ class FakeNav2(Node):
         handle.succeed()
         return result
 
-    def _follow(self, handle: Any) -> Any:
+    async def _follow(self, handle: Any) -> Any:
         result = FollowPath.Result()
         with self._lock:
             code = self.follow_codes.pop(0) if self.follow_codes else 0
@@ -148,7 +149,7 @@ class FakeNav2(Node):
             if generation != self._follow_generation:  # preempted by a newer goal, as controller_server does
                 handle.abort()
                 return result
-            time.sleep(POLL)
+            await sleep(self, POLL, steady_clock())  # never blocks: the executor has one thread
             steps += 1
         if code:
             result.error_code = code
@@ -197,7 +198,7 @@ class FakeNavigateToPose(Node):
                                     callback_group=ReentrantCallbackGroup(),
                                     cancel_callback=lambda _h: CancelResponse.ACCEPT)
 
-    def _execute(self, handle: Any) -> Any:
+    async def _execute(self, handle: Any) -> Any:
         position = handle.request.pose.pose.position
         self.goals.append((position.x, position.y))
         result = NavigateToPose.Result()
@@ -207,7 +208,7 @@ class FakeNavigateToPose(Node):
                 self.canceled += 1
                 handle.canceled()
                 return result
-            time.sleep(POLL)
+            await sleep(self, POLL, steady_clock())  # never blocks: the executor has one thread
             steps += 1
         if (position.x, position.y) in self.failing:
             result.error_code = self.fail_code

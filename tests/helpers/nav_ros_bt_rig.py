@@ -32,6 +32,7 @@ class Rig:
     executor: Any
     thread: threading.Thread
     feedback: list[Any] = field(default_factory=list)
+    stopping: bool = False
 
     def wait(self, predicate: Callable[[], bool], what: str, timeout: float = 20.0) -> None:
         wait_until(predicate, timeout, what)
@@ -66,16 +67,18 @@ def start_rig(context: Any, make_node: Callable[..., Any], **fake_kwargs: Any) -
     executor = make_executor(context=context)
     for each in (fake, node, client):
         executor.add_node(each)
-    thread = threading.Thread(target=spin_until_shutdown, args=(executor, "bt rig"), daemon=True)
-    thread.start()
-    rig = Rig(node, fake, client, executor, thread)
+    rig = Rig(node, fake, client, executor, threading.Thread())
+    rig.thread = threading.Thread(target=spin_until_shutdown, args=(executor, "bt rig", lambda: rig.stopping),
+                                  daemon=True)
+    rig.thread.start()
     node.trigger_configure()
     node.trigger_activate()
     return rig
 
 
 def stop_rig(rig: Rig) -> None:
+    rig.stopping = True  # stop spinning first: see ros_tools.runtime.runner.spin_until_shutdown
+    rig.thread.join(timeout=5.0)
     rig.executor.shutdown()
     for each in (rig.client, rig.node, rig.fake):
         each.destroy_node()
-    rig.thread.join(timeout=5.0)

@@ -146,12 +146,13 @@ class Harness:
     def __init__(self, context: Any) -> None:
         self.context = context
         self.executor = make_executor(context=context)
+        self._stopping = False
         self.nodes: list[Node] = []
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
     def _spin(self) -> None:
-        spin_until_shutdown(self.executor, "test harness")
+        spin_until_shutdown(self.executor, "test harness", lambda: self._stopping)
 
     def add(self, *nodes: Node) -> None:
         for node in nodes:
@@ -166,10 +167,11 @@ class Harness:
         assert server.trigger_activate() == TransitionCallbackReturn.SUCCESS, "activate failed"
 
     def close(self) -> None:
+        self._stopping = True  # stop spinning first: see ros_tools.runtime.runner.spin_until_shutdown
+        self._thread.join(timeout=5.0)
         self.executor.shutdown(timeout_sec=5.0)
         for node in self.nodes:
             node.destroy_node()
-        self._thread.join(timeout=5.0)
 
 
 def send_goal(client: Any, goal: Any, timeout: float = 15.0, feedback: Callable[[Any], None] | None = None
