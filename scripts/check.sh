@@ -16,8 +16,6 @@ step "mypy"
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"
-# Tests that run the simulator and the stack depend on timing, and two cores shared by a dozen Python
-# nodes sometimes lag. A failed test is re-run at most twice; each re-run shows as R in the output, and a
-# feature that is really broken still fails. The summary ends with why each re-run attempt failed
-# (tests/conftest.py).
-"$VENV/bin/python" -m pytest --reruns 2 --reruns-delay 2 "$@"
+# No re-runs: the simulator runs in lockstep with the stack, so a test's outcome does not depend on
+# how loaded the machine is, and a test that fails is a defect to find, not bad luck.
+"$VENV/bin/python" -m pytest "$@"

@@ -73,21 +73,3 @@ def _release_dds_participants() -> Iterator[None]:
         from tests.helpers.ros import release_dds_participants
 
         release_dds_participants()
-
-
-_RERUN_CAUSES: list[str] = []
-
-
-def pytest_runtest_logreport(report: pytest.TestReport) -> None:
-    """Keep why an attempt failed when pytest-rerunfailures re-runs it (its summary names only the test)."""
-    if report.outcome == "rerun" and report.longrepr is not None:
-        crash = getattr(report.longrepr, "reprcrash", None)
-        cause = crash.message if crash is not None else str(report.longrepr).strip().splitlines()[-1]
-        _RERUN_CAUSES.append(f"{report.nodeid} ({report.when}): {cause[:600]}")
-
-
-def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
-    if _RERUN_CAUSES:
-        terminalreporter.section("why re-run attempts failed")
-        for line in _RERUN_CAUSES:
-            terminalreporter.write_line(line)
