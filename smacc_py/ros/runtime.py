@@ -14,7 +14,7 @@ The executor is rclpy's C++ EventsExecutor by default (``executor="single"`` or
 the engine's clock reads the node clock, so ``use_sim_time:=true`` puts the whole machine (timers,
 timeouts, transition stamps) on /clock; the initial state is entered right after the first /clock
 (``clock_gate.py``), and the process takes part in lockstep simulation (a ``LockstepParticipant``
-named after the machine, reporting once ``start()`` was called).
+named after the machine, reporting from DISCOVERY_SETTLE_S after ``start()``).
 
 Parameters: ``signal_detector_loop_freq`` (Hz) and ``run_mode`` (debug|release: release publishes
 status only periodically and no event log), plus whatever the machine and its clients declare.
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -46,6 +47,10 @@ _log = logging.getLogger("smacc_py")
 
 RUN_MODES = ("debug", "release")
 SPIN_WAKE_S = 0.5  # wall s: longest a spin_once waits, so spin() notices shutdown() without a wake-up
+#: wall s between start() and joining lockstep. DDS discovers the machine's new subscriptions and
+#: action clients in wall time (a few hundred ms on localhost); a simulator already stepping at 10x
+#: would spend seconds of sim time in StAllSensorsGo meanwhile, a different number on every run.
+DISCOVERY_SETTLE_S = 1.0
 STOP_WAIT_S = 10.0  # wall s shutdown() waits for the executor thread to stop the machine
 
 
@@ -116,14 +121,14 @@ class SmaccRuntime:
         self.executor.add_node(self.node)
         self.dispatch = ExecutorDispatch(self.sm, self.executor)
         self._first_clock = FirstClock(self.node, self.executor, self._enter_initial_state)
-        self._start_requested = False
+        self._start_requested_at: float | None = None  # time.monotonic() of start()
         self.participant: LockstepParticipant | None = None
         if uses_sim_time(self.node):
-            # Ready from start(): the simulator may then step, and its first /clock enters the
-            # initial state. (Waiting for the initial state would deadlock a simulator that holds
-            # its clock at 0 until this role joins.)
+            # Ready shortly after start(): the simulator may then step, and its first /clock enters
+            # the initial state. (Waiting for the initial state would deadlock a simulator that
+            # holds its clock at 0 until this role joins.)
             self.participant = LockstepParticipant(self.node, role=self.sm.name,
-                                                   ready=lambda: self._start_requested)
+                                                   ready=self._discovery_settled)
         self._timer: Any = None
         self._stopping = False
         self._shut_down = False
@@ -138,8 +143,13 @@ class SmaccRuntime:
         after spinning starts; returns at once."""
         if self._shut_down:
             raise SmaccError(f"{self.sm.name}: start() after shutdown()")
-        self._start_requested = True
+        self._start_requested_at = time.monotonic()
         self._first_clock.arm()
+
+    def _discovery_settled(self) -> bool:
+        """Lockstep readiness: DISCOVERY_SETTLE_S of wall time since ``start()``."""
+        requested = self._start_requested_at
+        return requested is not None and time.monotonic() - requested >= DISCOVERY_SETTLE_S
 
     def is_started(self) -> bool:
         """True once the machine has entered its initial state."""
