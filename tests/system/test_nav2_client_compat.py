@@ -120,9 +120,11 @@ class MiniNavigator:
         wait(future.done, 30.0, "the cancel response")
 
 
-@pytest.fixture(scope="module")
-def stack() -> Iterator[Bringup]:
-    bringup = Bringup("--no-initial-pose")
+@pytest.fixture(scope="module", params=["one-process", "isolated"])
+def stack(request: Any) -> Iterator[Bringup]:
+    """The stack in both layouts: one nav2 process (the default) and ``--isolated``."""
+    layout = ["--isolated"] if request.param == "isolated" else []
+    bringup = Bringup("--no-initial-pose", *layout)
     try:
         bringup.wait_for_line(READY, timeout=240.0)
         yield bringup
