@@ -29,6 +29,7 @@ import yaml
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 SERVER_TIMEOUT = 30.0  # s (wall) to find the action server
 CANCEL_TIMEOUT = 10.0  # s (wall) to wait for the result after a cancel
+ACK_RETRY = 5.0  # s (wall) before an unacknowledged goal is sent again
 STATUS_PERIOD = 0.5  # s between status lines
 
 
@@ -114,6 +115,26 @@ class GoalRunner:
             self._last_status = now
             print(f"\r{text:<100}", end="", flush=True)
 
+    def send_until_acknowledged(self, client: Any, goal: Any, feedback: Any, name: str) -> Any:
+        """Send ``goal`` and resend it every ACK_RETRY s until the server acknowledges one; that future.
+
+        Why: a client that has just discovered a server (``server_is_ready``) can send its goal
+        request before the server's side of the match is complete, and DDS then drops the request
+        without an error (seen under load with Fast DDS). A resend carries a new goal id; a late
+        acknowledgement of an earlier copy is canceled.
+        """
+        sent: list[Any] = []
+        deadline = time.monotonic() + SERVER_TIMEOUT
+        while time.monotonic() < deadline:
+            sent.append(client.send_goal_async(goal, feedback_callback=feedback))
+            if self.spin_until(lambda: any(f.done() for f in sent), ACK_RETRY):
+                first = next(f for f in sent if f.done())
+                for extra in sent:
+                    if extra is not first:
+                        extra.add_done_callback(_cancel_if_accepted)
+                return first
+        raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
+
     def run_action(self, action_type: Any, name: str, goal: Any, describe: Any) -> tuple[int, Any]:
         """Send ``goal`` to ``name``; (GoalStatus, result) or raise on no server/rejection."""
         from rclpy.action import ActionClient
@@ -123,12 +144,10 @@ class GoalRunner:
             raise RuntimeError(f"no '{name}' action server after {SERVER_TIMEOUT:.0f} s "
                                "(is nav-bringup running?)")
         started = time.monotonic()
-        sent = client.send_goal_async(
-            goal, feedback_callback=lambda msg: self.status(describe(msg.feedback, started)))
         outcome = None
+        sent = self.send_until_acknowledged(
+            client, goal, lambda msg: self.status(describe(msg.feedback, started)), name)
         try:
-            if not self.spin_until(sent.done, SERVER_TIMEOUT):
-                raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
             handle = sent.result()
             if not handle.accepted:
                 raise RuntimeError(f"'{name}' rejected the goal")
@@ -244,6 +263,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAILED
     finally:
         runner.close()
+
+
+def _cancel_if_accepted(future: Any) -> None:
+    """Cancel a duplicate goal that was accepted after another copy had been acknowledged."""
+    handle = future.result()
+    if handle is not None and handle.accepted:
+        handle.cancel_goal_async()
 
 
 if __name__ == "__main__":

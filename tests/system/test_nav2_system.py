@@ -9,8 +9,10 @@ yaml), as in Nav2, so the pillar test first sets the tolerance to 0 over ``param
 
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -51,11 +53,20 @@ class Client:
     truth: list[Odometry] = field(default_factory=list)
     feedback: list[Any] = field(default_factory=list)
 
+    def _on_feedback(self, msg: Any) -> None:
+        self.feedback.append(msg.feedback)
+
     def send(self, goal: NavigateToPose.Goal) -> Any:
+        """Send ``goal``; resend every 5 s while unacknowledged (see goal_cli.send_until_acknowledged)."""
         self.feedback.clear()
-        future = self.nav.send_goal_async(goal, feedback_callback=lambda m: self.feedback.append(m.feedback))
-        wait(future.done, 30.0, "goal acknowledgement")
-        handle = future.result()
+        sent: list[Any] = []
+        deadline = time.monotonic() + 30.0
+        while not any(f.done() for f in sent):
+            assert time.monotonic() < deadline, "timed out after 30 s waiting for goal acknowledgement"
+            sent.append(self.nav.send_goal_async(goal, feedback_callback=self._on_feedback))
+            with contextlib.suppress(AssertionError):
+                wait(lambda: any(f.done() for f in sent), 5.0, "goal acknowledgement")
+        handle = next(f for f in sent if f.done()).result()
         assert handle.accepted
         return handle
 
