@@ -21,10 +21,12 @@ Run one benchmark with ``.venv/bin/python -m bench.<module>``; ``--no-record`` p
 from __future__ import annotations
 
 import datetime as _dt
+import fcntl
 import os
 import platform
 import statistics
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -52,6 +54,55 @@ def machine_description() -> str:
     except OSError:
         pass
     return f"{model} ×{os.cpu_count()}, py{sys.version_info.major}.{sys.version_info.minor}"
+
+
+_DOMAIN_LOCKS: list[object] = []
+
+
+def claim_domain_id() -> int:
+    """A ROS_DOMAIN_ID (1..100) no test session or other benchmark on this machine holds; held until exit.
+
+    Same lock files as tests/conftest.py (``navsuite-ros-domain-<id>.lock``, an exclusive flock each),
+    so a benchmark never shares a DDS domain with a test run on the same machine. 1..100 keeps the
+    DDS ports below Linux's ephemeral port range.
+    """
+    start = os.getpid() % 100
+    for offset in range(100):
+        domain = 1 + (start + offset) % 100
+        handle = open(os.path.join(tempfile.gettempdir(), f"navsuite-ros-domain-{domain}.lock"), "w")  # noqa: SIM115
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        _DOMAIN_LOCKS.append(handle)  # released when this process exits
+        return domain
+    raise RuntimeError("all ROS domain ids 1..100 are held by test sessions or benchmarks on this machine")
+
+
+def code_version() -> str:
+    """The checkout being measured: ``git describe``-like ``<HEAD>`` plus ``+dirty:<hash>`` when files
+    outside bench/ differ from HEAD (the hash names that diff), so a change mid-run is detectable."""
+    import hashlib
+    import subprocess
+
+    repo = RESULTS.parents[1]
+
+    def git(*args: str) -> str:
+        return subprocess.run(["git", "-C", str(repo), *args], capture_output=True, text=True).stdout
+
+    head = git("rev-parse", "--short", "HEAD").strip() or "unknown"
+    diff = git("diff", "HEAD", "--", ".", ":(exclude)bench")
+    untracked = git("ls-files", "--others", "--exclude-standard", "--", ".", ":(exclude)bench")
+    if not diff and not untracked:
+        return head
+    return f"{head}+dirty:{hashlib.sha1((diff + untracked).encode()).hexdigest()[:8]}"
+
+
+def version_note(started: str) -> str:
+    """``code <version>``, or a warning when the checkout changed since ``started`` (a code_version())."""
+    now = code_version()
+    return f"code {now}" if now == started else f"CODE CHANGED DURING THE RUN: {started} -> {now}"
 
 
 @dataclass(frozen=True)
