@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from bench.bench_mission import DEMO_MODULE, TRANSITION, Run, demo_command, parse_run
-from bench.harness import Benchmark, claim_domain_id, code_version, version_note
+from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
 
 REPO = Path(__file__).resolve().parents[1]
 WORKTREE = Path("/tmp/navsuite_before")
@@ -280,7 +280,7 @@ def main() -> int:
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
     env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     env.pop("PYTHONPATH", None)
-    version = code_version()
+    version = code_version_with_fingerprint()
     print(f"cpu: ROS_DOMAIN_ID {domain}; code {version}", flush=True)
     create_worktree(args.before_commit)
     before: list[CpuRun] = []

@@ -41,7 +41,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from bench.harness import Benchmark, Stats, claim_domain_id, code_version, version_note
+from bench.harness import Benchmark, Stats, claim_domain_id, code_version_with_fingerprint, version_note
 
 REPO = Path(__file__).resolve().parents[1]
 RUN_TIMEOUT = 900.0  # s (wall) per mission, bringup included (the demo's own limit is 600 s)
@@ -208,7 +208,7 @@ def main() -> int:
     args = parser.parse_args()
     bench = Benchmark("mission")  # --no-record is read by the harness
     domain = claim_domain_id()
-    version = code_version()
+    version = code_version_with_fingerprint()
     print(f"mission: ROS_DOMAIN_ID {domain}; code {version}", flush=True)
     summary: list[str] = []
     for rtf in args.rtf:

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.harness import Benchmark, claim_domain_id, code_version, version_note
+from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
 
 REPO = Path(__file__).resolve().parents[1]
 MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
@@ -244,7 +244,7 @@ def main() -> int:
     if "ROS_DOMAIN_ID" not in os.environ:
         os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())  # never a test session's domain
     print(f"navigation: ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}", flush=True)
-    version = code_version()
+    version = code_version_with_fingerprint()
     print(f"navigation: code {version}", flush=True)
     rng = np.random.default_rng(args.seed)
     candidates = free_poses(MIN_CLEARANCE)

@@ -80,29 +80,56 @@ def claim_domain_id() -> int:
     raise RuntimeError("all ROS domain ids 1..100 are held by test sessions or benchmarks on this machine")
 
 
-def code_version() -> str:
-    """The checkout being measured: ``git describe``-like ``<HEAD>`` plus ``+dirty:<hash>`` when files
-    outside bench/ differ from HEAD (the hash names that diff), so a change mid-run is detectable."""
-    import hashlib
+def _git(*args: str) -> str:
     import subprocess
 
-    repo = RESULTS.parents[1]
+    return subprocess.run(["git", "-C", str(RESULTS.parents[1]), *args], capture_output=True,
+                          text=True).stdout
 
-    def git(*args: str) -> str:
-        return subprocess.run(["git", "-C", str(repo), *args], capture_output=True, text=True).stdout
 
-    head = git("rev-parse", "--short", "HEAD").strip() or "unknown"
-    diff = git("diff", "HEAD", "--", ".", ":(exclude)bench")
-    untracked = git("ls-files", "--others", "--exclude-standard", "--", ".", ":(exclude)bench")
+def code_version() -> str:
+    """The checkout being measured: ``<HEAD>``, plus ``+dirty:<hash>`` when files outside bench/ differ
+    from HEAD (the hash names that diff)."""
+    import hashlib
+
+    head = _git("rev-parse", "--short", "HEAD").strip() or "unknown"
+    diff = _git("diff", "HEAD", "--", ".", ":(exclude)bench")
+    untracked = _git("ls-files", "--others", "--exclude-standard", "--", ".", ":(exclude)bench")
     if not diff and not untracked:
         return head
     return f"{head}+dirty:{hashlib.sha1((diff + untracked).encode()).hexdigest()[:8]}"
 
 
+def _stack_fingerprint() -> str:
+    """A hash of every file outside bench/ as the working tree has it (HEAD's tree plus local changes)."""
+    import hashlib
+
+    tree = "".join(line for line in _git("ls-tree", "HEAD").splitlines(keepends=True)
+                   if not line.rstrip().endswith("\tbench"))
+    diff = _git("diff", "HEAD", "--", ".", ":(exclude)bench")
+    untracked = _git("ls-files", "--others", "--exclude-standard", "--", ".", ":(exclude)bench")
+    return hashlib.sha1((tree + diff + untracked).encode()).hexdigest()
+
+
+_FINGERPRINTS: dict[str, str] = {}
+
+
+def code_version_with_fingerprint() -> str:
+    """code_version(), remembering what the files outside bench/ were for version_note()."""
+    version = code_version()
+    _FINGERPRINTS[version] = _stack_fingerprint()
+    return version
+
+
 def version_note(started: str) -> str:
-    """``code <version>``, or a warning when the checkout changed since ``started`` (a code_version())."""
+    """``code <version>``; says so when the checkout changed since ``started`` (a code_version()):
+    a new HEAD that changed only bench/ is named but is not a change of the code measured."""
     now = code_version()
-    return f"code {now}" if now == started else f"CODE CHANGED DURING THE RUN: {started} -> {now}"
+    if now == started:
+        return f"code {now}"
+    if started in _FINGERPRINTS and _FINGERPRINTS[started] == _stack_fingerprint():
+        return f"code {started} (HEAD moved to {now} during the run, bench/ only)"
+    return f"CODE CHANGED DURING THE RUN: {started} -> {now}"
 
 
 @dataclass(frozen=True)
