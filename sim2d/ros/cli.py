@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import itertools
 import os
-import signal
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,7 +28,6 @@ from sim2d.ros.config import ParamValue, build_config, coerce, defaults, load_pa
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
 EXIT_USAGE = 2
-SPIN_TIMEOUT = 0.1   # wall s a spin_once waits for work before checking for shutdown
 
 
 class _Parser(argparse.ArgumentParser):
@@ -139,12 +137,16 @@ def main(argv: list[str] | None = None) -> int:
     import rclpy
     from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter
+    from rclpy.signals import SignalHandlerOptions
 
     from ros_tools.runtime.executor import make_executor
+    from ros_tools.runtime.runner import spin_until_shutdown
     from sim2d.ros.sim_node import Sim2dNode
 
     # The simulator is the clock, not a lockstep participant: it runs no LockstepParticipant.
-    rclpy.init(args=["sim2d", *command.ros_args])
+    # Signals are handled by spin_until_shutdown (a flag checked between callbacks), so a Ctrl-C
+    # never lands in the middle of a stepping burst.
+    rclpy.init(args=["sim2d", *command.ros_args], signal_handler_options=SignalHandlerOptions.NO)
     node: Any = None
     executor: Any = None
     try:
@@ -152,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
                                               for name, value in command.values.items()])
         executor = make_executor(command.executor)
         executor.add_node(node)
-        spin_until_shutdown(executor)
+        spin_until_shutdown(executor, "sim2d")  # Ctrl-C and SIGTERM stop it between callbacks
     except ValueError as exc:   # e.g. a bad '-p name:=value' after --ros-args
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
@@ -165,32 +167,6 @@ def main(argv: list[str] | None = None) -> int:
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
-
-
-def spin_until_shutdown(executor: Any) -> None:
-    """Serve callbacks until Ctrl-C, SIGTERM or a shutdown of the context.
-
-    Why a loop of ``spin_once``: in the Jazzy rclpy wheel (7.1.6) ``EventsExecutor.spin()`` never
-    runs a timer or a subscription and ignores Ctrl-C; ``spin_once`` works with either executor.
-
-    Why not ros_tools' ``run_nodes``, and why our own signal handlers: at max speed the process is
-    nearly always inside the stepping callback, so rclpy's and the EventsExecutor's handlers end it
-    mid-burst (a KeyboardInterrupt or a publish on a dead context, each logged by the EventsExecutor
-    as a FATAL callback error with a traceback). Here a signal only sets a flag, and the loop stops
-    between callbacks.
-    """
-    stop: list[int] = []
-
-    def request_stop(signum: int, frame: object) -> None:
-        stop.append(signum)
-
-    previous = {signum: signal.signal(signum, request_stop) for signum in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        while executor.context.ok() and not stop:
-            executor.spin_once(timeout_sec=SPIN_TIMEOUT)
-    finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
 
 
 if __name__ == "__main__":
