@@ -6,7 +6,7 @@ its startup). Needs ``nav-bringup`` (nav_stack.ros.bringup); without it that par
 message. Always measured: the cost of one tick of the seed tree with the pure seed nodes and a fake
 navigator (the node's own overhead per 0.5 s tick).
 
-Run: .venv/bin/python -m bench.bench_patrol [--rtf 1] [--repeat 1] [--no-record]
+Run: .venv/bin/python -m bench.bench_patrol [--rtf max] [--repeat 1] [--no-record]
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def bench_tick(bench: Benchmark) -> None:
                  note="counter battery")
 
 
-def bench_cycle(bench: Benchmark, rtf: float, repeat: int) -> None:
+def bench_cycle(bench: Benchmark, rtf: str, repeat: int) -> None:
     from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, stack_available, start_stack
 
     if not stack_available():
@@ -69,7 +69,7 @@ def bench_cycle(bench: Benchmark, rtf: float, repeat: int) -> None:
                   flush=True)
     finally:
         launcher.shutdown()  # type: ignore[attr-defined]
-    note = f"rtf {rtf:g}, location1..4, counter battery, n={len(sim_s)}"
+    note = f"rtf {rtf}, location1..4, counter battery, n={len(sim_s)}"
     bench.record_value("one patrol cycle (sim time)", statistics.median(sim_s), "s", note=note)
     bench.record_value("one patrol cycle (wall time, incl. node start)", statistics.median(wall_s), "s",
                        note=note)
@@ -77,7 +77,8 @@ def bench_cycle(bench: Benchmark, rtf: float, repeat: int) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="bench_patrol")
-    parser.add_argument("--rtf", type=float, default=1.0)  # the highest the whole stack sustains here
+    parser.add_argument("--rtf", default="max",
+                        help="sim real-time factor (lockstep; max = as fast as the stack keeps up)")
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--no-record", action="store_true")
     options = parser.parse_args(sys.argv[1:] if argv is None else argv)

@@ -23,13 +23,13 @@ def stack_available() -> bool:
     return importlib.util.find_spec("nav_stack.ros.bringup") is not None
 
 
-def bringup_command(rtf: float, extra: Sequence[str] = ()) -> list[str]:
+def bringup_command(rtf: str, extra: Sequence[str] = ()) -> list[str]:
     exe = shutil.which("nav-bringup")
     base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, "--rtf", f"{rtf:g}", *extra]
+    return [*base, "--rtf", rtf, *extra]
 
 
-def start_stack(rtf: float, extra: Sequence[str] = (), ready_timeout: float = 240.0) -> object:
+def start_stack(rtf: str, extra: Sequence[str] = (), ready_timeout: float = 240.0) -> object:
     """A ros_tools Launcher running nav-bringup, returned once it printed "Nav2 is ready"."""
     from ros_tools.launch import Launcher, ProcessSpec
 

@@ -1,7 +1,6 @@
 """Run ``nav-bringup`` in a child process for system tests and talk to it from a client node.
 
-The rtf defaults to 1.0 (on 2 shared cores the Python controller misses its 20 Hz cycles at
-higher factors); NAV_SYSTEM_TEST_RTF overrides it on faster machines.
+The simulator runs in lockstep at SYSTEM_RTF (``max`` unless NAV_SYSTEM_TEST_RTF says otherwise).
 """
 
 from __future__ import annotations
@@ -16,10 +15,9 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from tests.helpers.ros import REPO
+from tests.helpers.ros import REPO, SYSTEM_RTF
 
 READY = "Nav2 is ready"
-RTF = os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0")
 
 
 class Bringup:
@@ -27,7 +25,7 @@ class Bringup:
 
     def __init__(self, *args: str) -> None:
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", RTF, *args], cwd=REPO,
+            [sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", SYSTEM_RTF, *args], cwd=REPO,
             env=dict(os.environ), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
             start_new_session=True)
         self.lines: list[str] = []

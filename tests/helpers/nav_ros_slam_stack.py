@@ -35,10 +35,13 @@ def _py(module: str, *args: str) -> list[str]:
     return [sys.executable, "-m", module, *args]
 
 
-def sim_spec(rtf: float, seed: int = 0) -> ProcessSpec:
+def sim_spec(rtf: float | str, seed: int = 0, participants: Sequence[str] = ()) -> ProcessSpec:
+    """sim2d at the seeds' spawn; with ``participants`` (lockstep roles) it waits for them to report
+    before its first step and never runs ahead of any node that reports (see ros_tools.runtime)."""
+    lockstep = ["--lockstep-participants", ",".join(participants)] if participants else []
     return ProcessSpec("sim2d", _py("sim2d.ros.cli", "--world", "turtlebot3_world", "--robot", "waffle",
                                     "--rtf", str(rtf), "--seed", str(seed), "--x", str(START[0]),
-                                    "--y", str(START[1]), "--yaw", str(START[2])),
+                                    "--y", str(START[1]), "--yaw", str(START[2]), *lockstep),
                        ready=r"sim2d: world")
 
 

@@ -13,7 +13,6 @@ Slow. Skipped until nav_stack.ros.bringup exists.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 
@@ -22,16 +21,15 @@ import pytest
 pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
 
 from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, start_stack
-from tests.helpers.ros import REPO
+from tests.helpers.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
-RTF = float(os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0"))
 SEED_TRACE = ["location1", "location2", "location3", "location4", "station", "wait", "recharge"] * 2
 
 
 def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
-    launcher = start_stack(RTF)
+    launcher = start_stack(SYSTEM_RTF)
     try:
         set_initial_pose()
         params = {"battery_source": "counter", "max_cycles": 4, "server_timeout": 60.0}
@@ -47,7 +45,7 @@ def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
 
 
 def test_sm_battery_patrol_does_two_rounds_on_the_simulated_battery() -> None:
-    cmd = [sys.executable, "-m", "smacc_py.state_machines.sm_battery_patrol.demo", "--rtf", f"{RTF:g}",
+    cmd = [sys.executable, "-m", "smacc_py.state_machines.sm_battery_patrol.demo", "--rtf", SYSTEM_RTF,
            "--cycles", "2", "--low-threshold", "0.95", "--charged-threshold", "0.99", "--timeout", "900"]
     result = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=1200)
     out = result.stdout

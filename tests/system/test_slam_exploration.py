@@ -15,6 +15,8 @@ error shows up as a low IoU. The SLAM pose (slam/pose) must stay within 0.1 m of
 
 Phase 2 (seed: "navigation on the saved map"): the saved map round-trips through map_server, amcl
 starts at the spawn, and a NavigateToPose goal to Nav2's system-test goal (0.0, 2.0) succeeds.
+
+Both phases run sim2d in lockstep with the stack's processes at SYSTEM_RTF (``max`` by default).
 """
 
 from __future__ import annotations
@@ -22,7 +24,6 @@ from __future__ import annotations
 import contextlib
 import itertools
 import math
-import os
 import threading
 from collections import deque
 from pathlib import Path
@@ -49,6 +50,7 @@ from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_bringup import slam_processes
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_slam_stack import (
+    NAV_SERVERS,
     PARAMS_FILE,
     Stack,
     compare_with_reference,
@@ -58,10 +60,12 @@ from tests.helpers.nav_ros_slam_stack import (
     progress_numbers,
     sim_spec,
 )
-from tests.helpers.ros import wait_until
+from tests.helpers.ros import SYSTEM_RTF, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-RTF = float(os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0"))  # what the whole stack sustains on 2 cores
+#: The processes the simulator waits for in lockstep (their run_nodes roles), per phase.
+SLAM_ROLES = ("slam", *NAV_SERVERS)
+LOCALIZATION_ROLES = ("map_server", "amcl", *NAV_SERVERS)
 GOAL = (0.0, 2.0, 0.0)
 #: Exploring takes 90-150 sim s here; the limits end a stuck run with the explorer's log.
 EXPLORE_SIM_S, EXPLORE_WALL_S = 300.0, 360.0
@@ -135,7 +139,8 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
     probe = Probe(ros_context)
     map_file = tmp_path / "explored"
     try:
-        stack = Stack([sim_spec(RTF), *slam_processes(PARAMS_FILE), *nav_specs()])
+        sim = sim_spec(SYSTEM_RTF, participants=SLAM_ROLES)
+        stack = Stack([sim, *slam_processes(PARAMS_FILE), *nav_specs()])
         try:
             done = explore(map_file, max_time=EXPLORE_SIM_S, timeout=EXPLORE_WALL_S)
             print(done.stdout[-4000:], done.stderr[-4000:])  # goals and warnings, shown when the test fails
@@ -156,7 +161,8 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
 
         saved = load_map(map_file.with_suffix(".yaml"))
         assert (saved.data == -1).any(), "unknown cells must stay unknown after the round trip"
-        stack = Stack([sim_spec(RTF), *localization_specs(map_file.with_suffix(".yaml")), *nav_specs()])
+        sim = sim_spec(SYSTEM_RTF, participants=LOCALIZATION_ROLES)
+        stack = Stack([sim, *localization_specs(map_file.with_suffix(".yaml")), *nav_specs()])
         try:
             # Phase 1's navigate_to_pose may still be in the graph, and AMCL publishes map -> odom only
             # after its first scan: wait for this stack's bt_navigator and AMCL, as BasicNavigator does.

@@ -10,7 +10,6 @@ Slow: it starts the whole simulator and navigation stack. Skipped until nav_stac
 
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
 import sys
@@ -26,12 +25,10 @@ from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
 from smacc_py.state_machines.sm_nav2_test_1.demo import REPLAY_TOPICS
 from tests.helpers.bag_replay import bag_info, play_and_count
 from tests.helpers.report_pixels import content_fraction, distinct_colors, load_rgb, pixels_near
-from tests.helpers.ros import REPO
+from tests.helpers.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
-# The whole Python stack keeps up with about 1-2x real time on two cores (see README).
-RTF = os.environ.get("NAV_SYSTEM_TEST_RTF", "1.0")
 #: The mission's ~40 s of recording replay in ~10 s; the player and the counter keep up with that.
 REPLAY_RATE = "4"
 ARTIFACT = REPO / "artifacts" / "test_demo_report.png"
@@ -43,7 +40,7 @@ def _demo(report: Path, *args: str, timeout: float = 900.0) -> subprocess.Comple
         "-m",
         "smacc_py.state_machines.sm_nav2_test_1.demo",
         "--rtf",
-        RTF,
+        SYSTEM_RTF,
         "--quiet",
         "--report",
         str(report),
