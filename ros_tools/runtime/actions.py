@@ -1,4 +1,5 @@
-"""rclpy's ActionServer, with execute callbacks that run as :func:`.coroutines.spawn` coroutines.
+"""rclpy's ActionServer, with execute callbacks that run as :func:`.coroutines.spawn` coroutines,
+and an ActionClient safe to send from another thread than the one spinning it.
 
 Why: rclpy awaits an ``async def`` execute callback inside an executor task. A goal lasts seconds
 to minutes, and while it awaits its outcome that task is re-run on every executor turn (the
@@ -13,8 +14,10 @@ A plain (non-async) execute callback works as in rclpy.
 from __future__ import annotations
 
 import inspect
+import threading
 from typing import Any
 
+from rclpy.action import ActionClient as RclpyActionClient
 from rclpy.action import ActionServer as RclpyActionServer
 from rclpy.task import Future
 
@@ -57,3 +60,41 @@ def _traceback() -> str:
     import traceback
 
     return traceback.format_exc()
+
+
+class ActionClient(RclpyActionClient):
+    """``rclpy.action.ActionClient`` that may send from one thread while an executor spins in another.
+
+    Why: rclpy (7.1.x) sends a goal, cancel or result request first and records it as pending after.
+    When an executor spins the client's node in another thread, a fast server's response can be
+    taken in between; rclpy then drops it ("Ignoring unexpected goal response") and the future
+    never completes. Seen with BasicNavigator-style clients against the stack at a high real-time
+    factor. Here sending-and-recording and taking-a-response are made atomic with one lock.
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._request_lock = threading.RLock()
+
+    def send_goal_async(self, *args: Any, **kwargs: Any) -> Future:
+        with self._request_lock:
+            return super().send_goal_async(*args, **kwargs)
+
+    def _cancel_goal_async(self, goal_handle: Any) -> Future:
+        with self._request_lock:
+            return super()._cancel_goal_async(goal_handle)
+
+    def _get_result_async(self, goal_handle: Any) -> Future:
+        with self._request_lock:
+            return super()._get_result_async(goal_handle)
+
+    async def execute(self, taken_data: Any) -> None:
+        responses = {key: taken_data.pop(key) for key in _RESPONSES if key in taken_data}
+        if responses:
+            with self._request_lock:  # rclpy handles responses without awaiting anything
+                await super().execute(responses)
+        if taken_data:  # feedback and status, in rclpy's order (after the responses)
+            await super().execute(taken_data)
+
+
+_RESPONSES = ("goal", "cancel", "result")

@@ -8,10 +8,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from rclpy.action import ActionClient
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.runner import spin_until_shutdown
 from tests.helpers.nav_ros_bt_fakes import FakeNav2

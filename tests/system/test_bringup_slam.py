@@ -18,9 +18,10 @@ def test_slam_bringup_maps_and_navigates_on_the_growing_map(ros_context):
     from action_msgs.msg import GoalStatus
     from nav2_msgs.action import NavigateToPose
     from nav_msgs.msg import OccupancyGrid, Odometry
-    from rclpy.action import ActionClient
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    from ros_tools.runtime.actions import ActionClient
 
     stack = Bringup("--slam")
     node = rclpy.create_node("slam_bringup_probe", context=ros_context)

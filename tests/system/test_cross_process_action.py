@@ -15,8 +15,9 @@ def test_navigate_to_pose_goal_feedback_and_result_cross_processes(ros_context):
     import rclpy
     from action_msgs.msg import GoalStatus
     from nav2_msgs.action import NavigateToPose
-    from rclpy.action import ActionClient
     from rclpy.executors import SingleThreadedExecutor
+
+    from ros_tools.runtime.actions import ActionClient
 
     server = start_python(REPO / "tests" / "helpers" / "nav2_echo_server.py")
     node = rclpy.create_node("cross_process_client", context=ros_context)

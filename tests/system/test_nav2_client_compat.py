@@ -31,11 +31,11 @@ from nav2_msgs.action import (
     Spin,
 )
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap
-from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from ros_tools.runtime.actions import ActionClient
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros import REPO

@@ -24,10 +24,10 @@ pytest.importorskip("nav2_msgs.action")
 from action_msgs.msg import GoalStatus
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import Odometry
-from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros_cli import DISCOVERY, run_cli

@@ -39,7 +39,6 @@ from action_msgs.msg import GoalStatus
 from geometry_msgs.msg import PointStamped, PoseWithCovarianceStamped
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import Odometry
-from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import UInt32
@@ -48,6 +47,8 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import pose_stamped
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_bringup import slam_processes
+from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.lockstep import LockstepParticipant
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_slam_stack import (
     NAV_SERVERS,
@@ -63,9 +64,10 @@ from tests.helpers.nav_ros_slam_stack import (
 from tests.helpers.ros import SYSTEM_RTF, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
-#: The processes the simulator waits for in lockstep (their run_nodes roles), per phase.
-SLAM_ROLES = ("slam", *NAV_SERVERS)
-LOCALIZATION_ROLES = ("map_server", "amcl", *NAV_SERVERS)
+#: The processes the simulator waits for in lockstep (their run_nodes roles, and this test's probe).
+PROBE_ROLE = "slam_system_probe"
+SLAM_ROLES = ("slam", *NAV_SERVERS, PROBE_ROLE)
+LOCALIZATION_ROLES = ("map_server", "amcl", *NAV_SERVERS, PROBE_ROLE)
 GOAL = (0.0, 2.0, 0.0)
 #: Exploring takes 90-150 sim s here; the limits end a stuck run with the explorer's log.
 EXPLORE_SIM_S, EXPLORE_WALL_S = 300.0, 360.0
@@ -90,6 +92,8 @@ class Probe:
         self.node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self.amcl_poses.append,
                                       LATCHED)
         self.navigate = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
+        # In lockstep, so that it sees every ground-truth pose however loaded the machine is.
+        self.lockstep = LockstepParticipant(self.node, PROBE_ROLE)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self._spin, daemon=True)
@@ -129,6 +133,7 @@ class Probe:
             self.errors.append(math.hypot(p.x - truth[0], p.y - truth[1]))
 
     def close(self) -> None:
+        self.lockstep.destroy()
         self.executor.shutdown()
         self.node.destroy_node()
         self._thread.join(timeout=5.0)

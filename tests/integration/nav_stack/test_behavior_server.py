@@ -15,12 +15,12 @@ from action_msgs.msg import GoalStatus
 from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import Point
 from nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
-from rclpy.action import ActionClient
 from rclpy.node import Node
 
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.behavior_server import build_nodes
 from nav_stack.ros.costmap_ros import CostmapROS
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_world import (
     Harness,
     WorldNode,

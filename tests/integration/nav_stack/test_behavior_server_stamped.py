@@ -13,12 +13,12 @@ from action_msgs.msg import GoalStatus
 from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import TwistStamped
 from nav2_msgs.action import Spin
-from rclpy.action import ActionClient
 from rclpy.lifecycle import TransitionCallbackReturn
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.ros import behavior_server, controller_server
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_world import (
     Harness,
     WorldNode,

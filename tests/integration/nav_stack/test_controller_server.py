@@ -15,11 +15,11 @@ from action_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseStamped, Twist
 from nav2_msgs.action import ComputePathToPose, FollowPath
 from nav_msgs.msg import Path
-from rclpy.action import ActionClient
 from rclpy.node import Node
 from std_msgs.msg import String
 
 from nav_stack.ros import controller_server, planner_server
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_world import (
     LATCHED,
     Harness,

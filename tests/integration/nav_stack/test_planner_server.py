@@ -18,13 +18,13 @@ from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
 from rcl_interfaces.srv import SetParameters
-from rclpy.action import ActionClient
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.planner_server import build_nodes
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_world import (
     LATCHED,
     MAP_YAML,
