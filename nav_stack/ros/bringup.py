@@ -80,17 +80,22 @@ def _navigation_nodes(kwargs: dict[str, Any]) -> list[Any]:
     return nodes
 
 
-def run_component(name: str, params: str, map_yaml: str | None, executor: str | None = None) -> int:
+def run_component(name: str, params: str, map_yaml: str | None, executor: str | None = None,
+                  map_from_slam: bool = False) -> int:
     """Run the nodes of component ``name`` in this process; print COMPONENT_READY once its managers
     are active. The process is a lockstep participant named after the component, and holds the
-    simulator until then (the stack's bringup takes the same sim time however slow the machine)."""
+    simulator until then and until its costmaps have their map (the stack's bringup takes the same
+    sim time however slow the machine). With ``map_from_slam`` the map only comes once the simulator
+    runs (SLAM builds it from scans), so the process does not wait for it."""
     from rclpy.clock import Clock, ClockType
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
+    from nav_stack.ros.costmap_ros import CostmapROS
     from nav_stack.ros.lifecycle_manager import LifecycleManager
     from ros_tools.runtime.runner import run_nodes
 
     managers: list[Any] = []
+    costmaps: list[Any] = []
 
     def build() -> list[Any]:
         nodes: list[Any] = []
@@ -99,10 +104,14 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
         if name in ("navigation", "all"):
             nodes += _navigation_nodes({})
         managers.extend(node for node in nodes if isinstance(node, LifecycleManager))
+        costmaps.extend(node for node in nodes if isinstance(node, CostmapROS))
         return nodes
 
     def active() -> bool:
         return all(manager.system_active for manager in managers)
+
+    def ready() -> bool:
+        return active() and (map_from_slam or all(costmap.has_map for costmap in costmaps))
 
     def announce_when_active(_executor: Any, nodes: Any) -> None:
         def announce() -> None:
@@ -114,7 +123,7 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
 
     rclpy_args = ["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"]
     return run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
-                     ready=active, on_start=announce_when_active)
+                     ready=ready, on_start=announce_when_active)
 
 
 def component_role(name: str) -> str:
@@ -191,8 +200,9 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
             ready=r"sim2d", ready_timeout=60.0))
 
     def component(name: str) -> ProcessSpec:
+        slam = ["--map-from-slam"] if args.slam else []
         return ProcessSpec(component_role(name), _python_module(
-            "nav_stack.ros.bringup", "component", name, "--params", params, *map_args),
+            "nav_stack.ros.bringup", "component", name, "--params", params, *map_args, *slam),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout)
 
     initial_pose = ProcessSpec("initial_pose", _python_module(
@@ -262,9 +272,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         sub.add_argument("name", choices=COMPONENTS)
         sub.add_argument("--params", default=str(DEFAULT_PARAMS))
         sub.add_argument("--map", default=None)
+        sub.add_argument("--map-from-slam", action="store_true",
+                         help="the map comes from SLAM: do not hold the simulator until it arrives")
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
-        return run_component(opts.name, opts.params, opts.map, opts.executor)
+        return run_component(opts.name, opts.params, opts.map, opts.executor, opts.map_from_slam)
     parser = _parser()
     args = parser.parse_args(argv)
     _validate(args, parser)

@@ -78,6 +78,7 @@ class CostmapROS(NavLifecycleNode):
         self.frames: Frames | None = None
         self._pending_scans: deque[tuple[LaserScanMsg, float]] = deque(maxlen=50)
         self.ready = Future()  # done at the first successful update
+        self._map_received = False
         self._entities: list[object] = []
         self._layer_timers: list[object] = []
         self._warmup_timer: Timer | None = None
@@ -168,7 +169,19 @@ class CostmapROS(NavLifecycleNode):
         with self._lock:
             assert self.costmap is not None
             self.costmap.set_map(data, spec)
+        self._map_received = True
         self.get_logger().info(f"received a {spec.width} x {spec.height} map at {spec.resolution} m/cell")
+
+    @property
+    def has_map(self) -> bool:
+        """True once the static layer has its map (always, for a costmap without a static layer).
+
+        Why: in lockstep the process holds the simulator until this is true. A map from another
+        process arrives after DDS discovery, which takes wall seconds under load; at a high real-time
+        factor the planner's costmap_update_timeout (sim s) would otherwise run out before it.
+        """
+        return self._map_received or self.costmap is None or not any(
+            isinstance(layer, StaticLayer) for layer in self.costmap.layers)
 
     def _on_scan(self, msg: LaserScanMsg) -> None:
         self._pending_scans.append((msg, time.monotonic()))

@@ -8,7 +8,8 @@ deployment would; only the driver runs in this process. (With every node in one 
 driven through TOUR by a small go-to-waypoint law on sim2d's ground truth (turn in place, then drive
 with heading correction): the driver is test scaffolding, not the thing under test, and closing the
 loop on ground truth keeps the robot in the free corridors whatever the timing jitter of a loaded
-machine. Every amcl_pose is compared with the ground truth at its stamp.
+machine. Every amcl_pose is compared with the ground truth at its stamp. sim2d runs in lockstep with
+amcl and the driver (both lockstep participants), as fast as they keep up unless ``rtf`` caps it.
 
 The tour (map frame, m) runs between the pillar rows and columns (pillars r = 0.15 m at
 x, y ∈ {-1.1, 0, 1.1}), never closer than 0.35 m to an obstacle edge: about 12 m in 70 s of sim time.
@@ -33,6 +34,7 @@ from std_srvs.srv import Empty, Trigger
 
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
 from tests.helpers.ros import spin_until, start_python, stop_process
 
@@ -41,6 +43,7 @@ TOUR = [(-1.65, -0.55), (1.65, -0.55), (1.65, 0.55), (0.55, 0.55), (0.55, 1.65),
         (-0.55, -1.65)]
 KIDNAP_AFTER = 1  # teleport when waypoint TOUR[1] is reached ...
 KIDNAP_TO = (1.65, 1.45, -math.pi / 2)  # ... 2.0 m north of it, facing the next waypoint
+DRIVER_ROLE = "tour_driver"  # lockstep role of the test's driver node
 CONVERGED = 0.25  # m: position error below which (for good) localization counts as converged
 RECOVERY = {"recovery_alpha_slow": 0.001, "recovery_alpha_fast": 0.1}  # Nav2's suggested values
 MAX_V, MAX_W = 0.22, 1.0  # m/s, rad/s
@@ -87,8 +90,9 @@ class TourResult:
 class TourRun:
     """sim2d + map_server + amcl + a ground-truth driver; ``run()`` returns the scored TourResult."""
 
-    def __init__(self, context: Any, *, rtf: float = 4.0, seed: int = 0, global_localization: bool = False,
-                 kidnap: bool = False, amcl_params: dict[str, Any] | None = None,
+    def __init__(self, context: Any, *, rtf: float | str = "max", seed: int = 0,
+                 global_localization: bool = False, kidnap: bool = False,
+                 amcl_params: dict[str, Any] | None = None,
                  sim_args: tuple[str, ...] = ()) -> None:
         self.context, self.rtf, self.seed, self.sim_args = context, rtf, seed, sim_args
         self.global_localization, self.kidnap = global_localization, kidnap
@@ -177,13 +181,14 @@ class TourRun:
             "sim2d": start_python("sim2d.ros.cli", [
                 "--world", "turtlebot3_world", "--robot", "waffle", "--rtf", str(self.rtf), "--seed",
                 str(self.seed), "--x", str(START[0]), "--y", str(START[1]), "--yaw", str(START[2]),
-                *self.sim_args]),
+                "--lockstep-participants", f"amcl,{DRIVER_ROLE}", *self.sim_args]),
             "map_server": start_python("nav_stack.ros.map_server", ["--ros-args", "--params-file", params]),
             "amcl": start_python("nav_stack.ros.amcl_node", ["--ros-args", "--params-file", params]),
             "manager": start_python("nav_stack.ros.lifecycle_manager", [
                 "--ros-args", "-r", "__node:=lifecycle_manager_localization", "--params-file", params]),
         }
         probe = Node("tour_driver", context=self.context)
+        lockstep = LockstepParticipant(probe, DRIVER_ROLE)  # the sim waits for the driver and for AMCL
         executor = SingleThreadedExecutor(context=self.context)
         executor.add_node(probe)
         self.cmd_pub = probe.create_publisher(Twist, "/cmd_vel", 10)
@@ -210,6 +215,7 @@ class TourRun:
             self.result.collisions = counts[-1]
             self.result.finished = self._done
         finally:
+            lockstep.destroy()
             executor.shutdown()
             probe.destroy_node()
             self.result.log = "".join(f"--- {name}\n{stop_process(proc)}" for name, proc in procs.items())

@@ -25,10 +25,12 @@ from rclpy.node import Node
 from std_msgs.msg import UInt32
 
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_loc_tour import MAX_V, MAX_W, START, TOUR
-from tests.helpers.ros import REPO, spin_until, start_python, stop_process
+from tests.helpers.ros import REPO, connected, spin_until, start_python, stop_process
 
 PARAMS_FILE = REPO / "config" / "nav2_params.yaml"
+DRIVER_ROLE = "slam_drive_probe"  # lockstep role of the test's driver node
 
 
 @dataclass
@@ -56,10 +58,12 @@ def start_slam(params: Path) -> subprocess.Popen[str]:
     return start_python("nav_stack.ros.slam_node", args)
 
 
-def start_sim(rtf: float, seed: int = 0) -> subprocess.Popen[str]:
+def start_sim(rtf: float | str, seed: int = 0) -> subprocess.Popen[str]:
+    """sim2d in lockstep with the slam node and the driver (DRIVER_ROLE)."""
     return start_python("sim2d.ros.cli", [
         "--world", "turtlebot3_world", "--robot", "waffle", "--rtf", str(rtf), "--seed", str(seed),
-        "--x", str(START[0]), "--y", str(START[1]), "--yaw", str(START[2])])
+        "--x", str(START[0]), "--y", str(START[1]), "--yaw", str(START[2]),
+        "--lockstep-participants", f"slam,{DRIVER_ROLE}"])
 
 
 class SlamDrive:
@@ -68,7 +72,7 @@ class SlamDrive:
     After ``run`` the child processes and the probe node stay up (for service calls) until ``close``.
     """
 
-    def __init__(self, context: Any, directory: Path, *, rtf: float = 3.0, seed: int = 0,
+    def __init__(self, context: Any, directory: Path, *, rtf: float | str = "max", seed: int = 0,
                  waypoints: list[tuple[float, float]] | None = None) -> None:
         self.waypoints = list(TOUR if waypoints is None else waypoints)
         self.result = DriveResult()
@@ -79,12 +83,17 @@ class SlamDrive:
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.probe)
         self.cmd_pub = self.probe.create_publisher(Twist, "/cmd_vel", 10)
-        self.probe.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self._on_pose, LATCHED)
-        self.probe.create_subscription(OccupancyGrid, "/map", self.result.maps.append, LATCHED)
+        endpoints = [
+            self.cmd_pub,
+            self.probe.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self._on_pose, LATCHED),
+            self.probe.create_subscription(OccupancyGrid, "/map", self.result.maps.append, LATCHED),
+            self.probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10),
+        ]
         self._counts: list[int] = []
         self.probe.create_subscription(UInt32, "/sim2d/collision_count",
                                        lambda m: self._counts.append(m.data), LATCHED)
-        self.probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
+        # The sim holds until the driver is connected to sim2d and slam: the first maps are then seen.
+        self.lockstep = LockstepParticipant(self.probe, DRIVER_ROLE, ready=connected(endpoints))
 
     def crashed(self) -> bool:
         return any(proc.poll() is not None for proc in self.procs.values())
@@ -141,6 +150,7 @@ class SlamDrive:
         return self.result
 
     def close(self) -> None:
+        self.lockstep.destroy()
         self.executor.shutdown()
         self.probe.destroy_node()
         self.result.log = "".join(f"--- {name}\n{stop_process(proc)}" for name, proc in self.procs.items())

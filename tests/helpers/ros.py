@@ -15,6 +15,7 @@ import sys
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import Any
 
 from rclpy.executors import Executor
 from rclpy.node import Node
@@ -50,6 +51,22 @@ def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condi
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
         time.sleep(step)
+
+
+def connected(endpoints: Iterable[Any]) -> Callable[[], bool]:
+    """A predicate: every subscription has a matched publisher and every publisher a subscription.
+
+    Why: lockstep holds the simulator for its participants' callbacks, not for DDS discovery. A test
+    node passes this as its LockstepParticipant ``ready`` so the simulator waits until the node can
+    hear and be heard, instead of running on while a latched first message is still unmatched.
+    """
+    items = list(endpoints)
+
+    def ready() -> bool:
+        return all((e.get_subscription_count() if hasattr(e, "get_subscription_count")
+                    else e.get_publisher_count()) > 0 for e in items)
+
+    return ready
 
 
 def release_dds_participants() -> int:
