@@ -16,9 +16,8 @@ step "mypy"
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"
-# The simulator runs in lockstep with the stack, so outcomes no longer depend on load. One known
-# defect remains: a client that has just discovered an action server can lose its first goal
-# request (Fast DDS matches the two sides at different moments); clients now resend, and until that
-# is shown to be enough over repeated CI runs a failed test is re-run at most twice, each re-run
-# showing as R. A test that needs a re-run is still a defect to find.
-"$VENV/bin/python" -m pytest --reruns 2 --reruns-delay 2 "$@"
+# The simulator runs in lockstep with the stack, so a test's outcome does not depend on how loaded
+# the machine is: the suite runs in two worker processes (pytest-xdist, each worker its own
+# ROS_DOMAIN_ID), and a failure is never re-run. Arguments after the script's name go to pytest; a
+# later -n overrides this one (-n 0 runs everything in this process).
+"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-2}" --dist worksteal "$@"
