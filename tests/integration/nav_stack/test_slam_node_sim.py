@@ -29,8 +29,9 @@ from tests.helpers.ros import spin_until
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 
-@pytest.mark.xfail(strict=False, reason="passes in lockstep alone and beside two busy processes, but failed once "
-                   "in a two-worker suite run (max pose error 0.163 m, in a worker domain that also held "
+@pytest.mark.xfail(strict=False, reason="passes in lockstep alone and beside two busy processes, but "
+                   "failed once in a two-worker suite run (max pose error 0.163 m, in a worker domain "
+                   "that also held "
                    "leftover test nodes): open in the issue 17 note")
 def test_slam_maps_the_world_while_driven(ros_context: Any, tmp_path: Path) -> None:
     drive = SlamDrive(ros_context, tmp_path)
