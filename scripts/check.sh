@@ -16,8 +16,10 @@ step "mypy"
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"
-# The simulator runs in lockstep with the stack, so a test's outcome does not depend on how loaded
-# the machine is: the suite runs in two worker processes (pytest-xdist, each worker its own
-# ROS_DOMAIN_ID), and a failure is never re-run. Arguments after the script's name go to pytest; a
-# later -n overrides this one (-n 0 runs everything in this process).
-"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-2}" --dist worksteal "$@"
+# The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
+# not wall time. NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own
+# ROS_DOMAIN_ID, about 6 instead of 11 minutes); it is not the default yet because two workers
+# still expose load dependence the lockstep does not cover (cross-process delivery and discovery
+# measured in sim time: see the issue 17 note). Until that is gone a failed test is re-run at most
+# twice, each re-run showing as R: a test that needs one is still a defect to find.
+"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-0}" --reruns 2 --reruns-delay 2 "$@"
