@@ -36,7 +36,7 @@ from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import LATCHED
 from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
-from tests.helpers.ros import spin_until, start_python, stop_process
+from tests.helpers.ros import connected, spin_until, start_python, stop_process
 
 START = (-2.0, -0.5, 0.0)
 TOUR = [(-1.65, -0.55), (1.65, -0.55), (1.65, 0.55), (0.55, 0.55), (0.55, 1.65), (-0.55, 1.65),
@@ -104,9 +104,12 @@ class TourRun:
         self._truth: list[tuple[float, float, float, float, float]] = []  # t, x, y, yaw, distance
         self._waypoint = 0
         self._done = False
+        self._started = False  # set once the localization is active; the driver then drives
 
     # -- callbacks -------------------------------------------------------------------------------
     def _on_truth(self, msg: Odometry) -> None:
+        if not self._started:  # the localization is not active yet: the robot waits
+            return
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         yaw = 2.0 * math.atan2(q.z, q.w)
@@ -188,14 +191,20 @@ class TourRun:
                 "--ros-args", "-r", "__node:=lifecycle_manager_localization", "--params-file", params]),
         }
         probe = Node("tour_driver", context=self.context)
-        lockstep = LockstepParticipant(probe, DRIVER_ROLE)  # the sim waits for the driver and for AMCL
         executor = SingleThreadedExecutor(context=self.context)
         executor.add_node(probe)
         self.cmd_pub = probe.create_publisher(Twist, "/cmd_vel", 10)
         self.teleport_pub = probe.create_publisher(PoseStamped, "/sim2d/teleport", 10)
-        probe.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self._on_pose, LATCHED)
+        endpoints = [
+            self.cmd_pub, *([self.teleport_pub] if self.kidnap else []),
+            probe.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self._on_pose, LATCHED),
+            probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10),
+        ]
         counts: list[int] = []
         probe.create_subscription(UInt32, "/sim2d/collision_count", lambda m: counts.append(m.data), LATCHED)
+        # The sim waits for the driver (and AMCL), from its first step once the driver is connected:
+        # no amcl_pose or ground truth is missed while DDS discovery is still matching them.
+        lockstep = LockstepParticipant(probe, DRIVER_ROLE, ready=connected(endpoints))
 
         def crashed() -> bool:
             return any(proc.poll() is not None for proc in procs.values())
@@ -208,7 +217,7 @@ class TourRun:
             if self.global_localization:
                 reinitialize = probe.create_client(Empty, "/reinitialize_global_localization")
                 call(executor, reinitialize, Empty.Request())
-            probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
+            self._started = True
             spin_until(executor, lambda: self._done or crashed(), timeout, "the end of the tour")
             self.cmd_pub.publish(Twist())
             spin_until(executor, lambda: bool(counts), 10.0, "sim2d/collision_count")

@@ -50,9 +50,6 @@ def test_global_localization_converges_on_the_tour(ros_context: Any, tmp_path: P
     assert rms_xy < 0.08
 
 
-@pytest.mark.xfail(strict=False, reason="recovers in lockstep alone and beside two busy processes, but "
-                   "once did not converge before the kidnapping in a two-worker suite run "
-                   "(turtlebot3_world is nearly 4-fold symmetric): open in the issue 17 note")
 def test_kidnapped_robot_is_recovered(ros_context: Any, tmp_path: Path) -> None:
     result = TourRun(ros_context, kidnap=True, amcl_params=RECOVERY).run(tmp_path)
     _check_run(result)
