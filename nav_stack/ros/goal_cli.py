@@ -115,18 +115,24 @@ class GoalRunner:
             self._last_status = now
             print(f"\r{text:<100}", end="", flush=True)
 
-    def send_until_acknowledged(self, client: Any, goal: Any, feedback: Any, name: str) -> Any:
+    def send_until_acknowledged(self, client: Any, goal: Any, feedback: Any, name: str,
+                                sent: list[Any]) -> Any:
         """Send ``goal`` and resend it every ACK_RETRY s until the server acknowledges one; that future.
 
         Why: a client that has just discovered a server (``server_is_ready``) can send its goal
         request before the server's side of the match is complete, and DDS then drops the request
         without an error (seen under load with Fast DDS). A resend carries a new goal id; a late
-        acknowledgement of an earlier copy is canceled.
+        acknowledgement of an earlier copy is canceled. Every copy's future is appended to ``sent``,
+        so that Ctrl-C before the acknowledgement can still cancel what the server accepted.
         """
-        sent: list[Any] = []
+        from unique_identifier_msgs.msg import UUID
+
         deadline = time.monotonic() + SERVER_TIMEOUT
         while time.monotonic() < deadline:
-            sent.append(client.send_goal_async(goal, feedback_callback=feedback))
+            goal_id = UUID(uuid=list(os.urandom(16)))
+            future = client.send_goal_async(goal, feedback_callback=feedback, goal_uuid=goal_id)
+            future.goal_id = goal_id  # for a cancel before the acknowledgement (see _cancel_all)
+            sent.append(future)
             if self.spin_until(lambda: any(f.done() for f in sent), ACK_RETRY):
                 first = next(f for f in sent if f.done())
                 for extra in sent:
@@ -134,6 +140,28 @@ class GoalRunner:
                         extra.add_done_callback(_cancel_if_accepted)
                 return first
         raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
+
+    def _cancel_all(self, client: Any, action_type: Any, copies: list[Any]) -> None:
+        """Cancel every copy of a goal the server may have accepted; wait (CANCEL_TIMEOUT s) for the
+        results of the acknowledged ones and the cancel responses of the others.
+
+        A copy still unacknowledged may have reached the server with its acknowledgement lost on the
+        way back: it is canceled by its goal id (a server that never got it answers "unknown goal").
+        """
+        from rclpy.action.client import ClientGoalHandle
+
+        self.spin_until(lambda: any(f.done() for f in copies), CANCEL_TIMEOUT / 2)
+        handles, waits = [], []
+        for future in copies:
+            if future.done():
+                if future.result() is not None and future.result().accepted:
+                    handles.append(future.result())
+                    waits.append(future.result().get_result_async())
+                continue
+            assumed = action_type.Impl.SendGoalService.Response(accepted=True)
+            handles.append(ClientGoalHandle(client, future.goal_id, assumed))
+        waits += [handle.cancel_goal_async() for handle in handles]
+        self.spin_until(lambda: all(w.done() for w in waits), CANCEL_TIMEOUT)
 
     def run_action(self, action_type: Any, name: str, goal: Any, describe: Any) -> tuple[int, Any]:
         """Send ``goal`` to ``name``; (GoalStatus, result) or raise on no server/rejection."""
@@ -144,10 +172,10 @@ class GoalRunner:
             raise RuntimeError(f"no '{name}' action server after {SERVER_TIMEOUT:.0f} s "
                                "(is nav-bringup running?)")
         started = time.monotonic()
-        outcome = None
-        sent = self.send_until_acknowledged(
-            client, goal, lambda msg: self.status(describe(msg.feedback, started)), name)
+        copies: list[Any] = []  # every copy of the goal sent (see send_until_acknowledged)
         try:
+            sent = self.send_until_acknowledged(
+                client, goal, lambda msg: self.status(describe(msg.feedback, started)), name, copies)
             handle = sent.result()
             if not handle.accepted:
                 raise RuntimeError(f"'{name}' rejected the goal")
@@ -155,10 +183,7 @@ class GoalRunner:
             self.spin_until(outcome.done)
         except KeyboardInterrupt:
             print("\nCtrl-C: canceling the goal...", flush=True)
-            if self.spin_until(sent.done, CANCEL_TIMEOUT) and sent.result().accepted:
-                outcome = outcome or sent.result().get_result_async()
-                sent.result().cancel_goal_async()
-                self.spin_until(outcome.done, CANCEL_TIMEOUT)
+            self._cancel_all(client, action_type, copies)
             raise
         print()
         response = outcome.result()
