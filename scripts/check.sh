@@ -18,7 +18,7 @@ step "import-linter"
 step "pytest"
 # The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
 # not wall time. NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own
-# ROS_DOMAIN_ID, about 6 instead of 11 minutes); it is not the default yet because two workers
+# ROS_DOMAIN_ID, about 6 instead of 9 to 11 minutes); not the default yet because two workers
 # still expose load dependence the lockstep does not cover (cross-process delivery and discovery
 # measured in sim time: see the issue 17 note). Until that is gone a failed test is re-run at most
 # twice, each re-run showing as R: a test that needs one is still a defect to find.
