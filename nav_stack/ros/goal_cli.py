@@ -116,32 +116,33 @@ class GoalRunner:
             print(f"\r{text:<100}", end="", flush=True)
 
     def send_until_acknowledged(self, client: Any, goal: Any, feedback: Any, name: str,
-                                sent: list[Any]) -> Any:
+                                sent: list[tuple[Any, Any]]) -> Any:
         """Send ``goal`` and resend it every ACK_RETRY s until the server acknowledges one; that future.
 
         Why: a client that has just discovered a server (``server_is_ready``) can send its goal
         request before the server's side of the match is complete, and DDS then drops the request
         without an error (seen under load with Fast DDS). A resend carries a new goal id; a late
-        acknowledgement of an earlier copy is canceled. Every copy's future is appended to ``sent``,
-        so that Ctrl-C before the acknowledgement can still cancel what the server accepted.
+        acknowledgement of an earlier copy is canceled. Every copy's (future, goal id) is appended to
+        ``sent``, so that Ctrl-C before the acknowledgement can still cancel what the server accepted.
         """
         from unique_identifier_msgs.msg import UUID
+
+        from ros_tools.runtime.actions import cancel_if_accepted
 
         deadline = time.monotonic() + SERVER_TIMEOUT
         while time.monotonic() < deadline:
             goal_id = UUID(uuid=list(os.urandom(16)))
             future = client.send_goal_async(goal, feedback_callback=feedback, goal_uuid=goal_id)
-            future.goal_id = goal_id  # for a cancel before the acknowledgement (see _cancel_all)
-            sent.append(future)
-            if self.spin_until(lambda: any(f.done() for f in sent), ACK_RETRY):
-                first = next(f for f in sent if f.done())
-                for extra in sent:
+            sent.append((future, goal_id))
+            if self.spin_until(lambda: any(f.done() for f, _ in sent), ACK_RETRY):
+                first = next(f for f, _ in sent if f.done())
+                for extra, _ in sent:
                     if extra is not first:
-                        extra.add_done_callback(_cancel_if_accepted)
+                        extra.add_done_callback(cancel_if_accepted)
                 return first
         raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
 
-    def _cancel_all(self, client: Any, action_type: Any, copies: list[Any]) -> None:
+    def _cancel_all(self, client: Any, action_type: Any, copies: list[tuple[Any, Any]]) -> None:
         """Cancel every copy of a goal the server may have accepted; wait (CANCEL_TIMEOUT s) for the
         results of the acknowledged ones and the cancel responses of the others.
 
@@ -150,16 +151,16 @@ class GoalRunner:
         """
         from rclpy.action.client import ClientGoalHandle
 
-        self.spin_until(lambda: any(f.done() for f in copies), CANCEL_TIMEOUT / 2)
+        self.spin_until(lambda: any(f.done() for f, _ in copies), CANCEL_TIMEOUT / 2)
         handles, waits = [], []
-        for future in copies:
+        for future, goal_id in copies:
             if future.done():
                 if future.result() is not None and future.result().accepted:
                     handles.append(future.result())
                     waits.append(future.result().get_result_async())
                 continue
             assumed = action_type.Impl.SendGoalService.Response(accepted=True)
-            handles.append(ClientGoalHandle(client, future.goal_id, assumed))
+            handles.append(ClientGoalHandle(client, goal_id, assumed))
         waits += [handle.cancel_goal_async() for handle in handles]
         self.spin_until(lambda: all(w.done() for w in waits), CANCEL_TIMEOUT)
 
@@ -172,7 +173,7 @@ class GoalRunner:
             raise RuntimeError(f"no '{name}' action server after {SERVER_TIMEOUT:.0f} s "
                                "(is nav-bringup running?)")
         started = time.monotonic()
-        copies: list[Any] = []  # every copy of the goal sent (see send_until_acknowledged)
+        copies: list[tuple[Any, Any]] = []  # (future, goal id) of every copy sent
         try:
             sent = self.send_until_acknowledged(
                 client, goal, lambda msg: self.status(describe(msg.feedback, started)), name, copies)
@@ -288,13 +289,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAILED
     finally:
         runner.close()
-
-
-def _cancel_if_accepted(future: Any) -> None:
-    """Cancel a duplicate goal that was accepted after another copy had been acknowledged."""
-    handle = future.result()
-    if handle is not None and handle.accepted:
-        handle.cancel_goal_async()
 
 
 if __name__ == "__main__":

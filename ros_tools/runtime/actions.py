@@ -62,6 +62,14 @@ def _traceback() -> str:
     return traceback.format_exc()
 
 
+def cancel_if_accepted(future: Future) -> None:
+    """Done callback for a ``send_goal_async`` future whose goal is no longer wanted: cancel the goal
+    if the server accepted it (its acknowledgement was still on the way when the caller gave up)."""
+    handle = future.result()
+    if handle is not None and handle.accepted:
+        handle.cancel_goal_async()
+
+
 class ActionClient(RclpyActionClient):
     """``rclpy.action.ActionClient`` that may send from one thread while an executor spins in another.
 

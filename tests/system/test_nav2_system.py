@@ -27,7 +27,7 @@ from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.actions import ActionClient, cancel_if_accepted
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros_cli import DISCOVERY, run_cli
@@ -66,7 +66,11 @@ class Client:
             sent.append(self.nav.send_goal_async(goal, feedback_callback=self._on_feedback))
             with contextlib.suppress(AssertionError):
                 wait(lambda: any(f.done() for f in sent), 5.0, "goal acknowledgement")
-        handle = next(f for f in sent if f.done()).result()
+        first = next(f for f in sent if f.done())
+        for extra in sent:  # a copy acknowledged later would preempt the first: cancel it then
+            if extra is not first:
+                extra.add_done_callback(cancel_if_accepted)
+        handle = first.result()
         assert handle.accepted
         return handle
 

@@ -30,6 +30,7 @@ from nav_stack.core.bt import BtPortError, NodeConfig, PortList, StatefulActionN
 from nav_stack.core.bt.ports import blackboard_key
 from nav_stack.core.bt.status import NodeStatus
 from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, code_name
+from ros_tools.runtime.actions import cancel_if_accepted
 
 DEFAULT_SERVER_TIMEOUT_MS = 20  # Nav2's default_server_timeout
 DEFAULT_WAIT_FOR_SERVICE_MS = 1000  # Nav2's wait_for_service_timeout
@@ -157,7 +158,7 @@ class BtActionNode(StatefulActionNode):
             timeout_ms = int(self.get_input_or("server_timeout", DEFAULT_SERVER_TIMEOUT_MS))
             if (self._wall() - self._sent_at) * 1000.0 <= timeout_ms:
                 return NodeStatus.RUNNING
-            self._cancel_when_accepted(self._goal_future)
+            self._goal_future.add_done_callback(cancel_if_accepted)
             self._goal_future = None
             return self._fail(f"timed out after {timeout_ms} ms waiting for action server "
                               f"'{self.server_name}' to acknowledge the goal request")
@@ -185,21 +186,12 @@ class BtActionNode(StatefulActionNode):
 
     def on_halted(self) -> None:
         if self._goal_future is not None:  # sent; acknowledged or not, the leaf has not looked yet
-            self._cancel_when_accepted(self._goal_future)
+            self._goal_future.add_done_callback(cancel_if_accepted)
         elif self._handle is not None and self._result_future is not None and not self._result_future.done():
             self._handle.cancel_goal_async()
         self._goal_future = None
         self._handle = None
         self._result_future = None
-
-    @staticmethod
-    def _cancel_when_accepted(future: Future) -> None:
-        def cancel(done: Future) -> None:
-            handle = done.result()
-            if handle is not None and handle.accepted:
-                handle.cancel_goal_async()
-
-        future.add_done_callback(cancel)
 
 
 def duration_ports(default_s: float) -> PortList:
