@@ -25,7 +25,9 @@ filter itself lives in the core, so this node only translates and schedules:
        ``set_initial_pose`` (nav2_msgs/SetInitialPose).
 
 Parameters: every nav2_amcl name and Jazzy default (AmclParams); Nav2's nested ``initial_pose.x``,
-``.y``, ``.z``, ``.yaw`` are read too and win over the flat ``initial_pose_x``... when set.
+``.y``, ``.z``, ``.yaw`` are read too and win over the flat ``initial_pose_x``... when set. One
+addition, ``random_seed`` (int, default 0): the particle filter's random generator is seeded with it,
+so a lockstep run repeats exactly (nav2_amcl seeds with the wall time; -1 does the same here).
 """
 
 from __future__ import annotations
@@ -62,6 +64,7 @@ SCAN_TF_WAIT = 1.0  # wall s a scan may wait for odometry at its stamp (a loaded
 PENDING_POLL_PERIOD = 0.01  # wall s
 TF_REPUBLISH_PERIOD = 0.1  # wall s
 WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
+DEFAULT_SEED = 0  # the particle filter's random seed unless ``random_seed`` says otherwise
 NO_POSE_WARNING = "AMCL cannot publish a pose or update the transform. Please set the initial pose..."
 #: Scans: sensor-data QoS but only the newest sample is kept (see the module docstring).
 SCAN_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
@@ -84,12 +87,21 @@ def load_params(node: NavLifecycleNode) -> AmclParams:
     return dataclasses.replace(params, **nested)
 
 
+def random_generator(node: NavLifecycleNode) -> np.random.Generator:
+    """The filter's generator from the ``random_seed`` parameter (-1: seeded from OS entropy)."""
+    if not node.has_parameter("random_seed"):
+        node.declare_parameter("random_seed", DEFAULT_SEED)
+    seed = int(node.get_parameter("random_seed").value)
+    return np.random.default_rng(None if seed < 0 else seed)
+
+
 class AmclNode(NavLifecycleNode):
     """Adaptive Monte Carlo Localization node (``amcl``)."""
 
     def __init__(self, rng: np.random.Generator | None = None, **kwargs: object) -> None:
         super().__init__(NODE_NAME, **kwargs)
-        self.rng = rng if rng is not None else np.random.default_rng()
+        self._given_rng = rng
+        self.rng = rng if rng is not None else np.random.default_rng(DEFAULT_SEED)
         self.params = AmclParams()
         self.amcl: Amcl | None = None
         self._pending_pose: tuple[Pose, np.ndarray | None, str] | None = None
@@ -106,6 +118,7 @@ class AmclNode(NavLifecycleNode):
     # -- lifecycle -----------------------------------------------------------------------------
     def configure(self) -> None:
         self.params = load_params(self)
+        self.rng = self._given_rng or random_generator(self)
         self.tf = TransformListener(self)
         self.tf_broadcaster = TransformBroadcaster(self)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "amcl_pose", LATCHED)

@@ -146,3 +146,18 @@ def test_initial_pose_from_nav2_nested_parameters(graph: Graph) -> None:
     first = graph.poses[0].pose.pose.position
     assert (first.x, first.y) == pytest.approx((-2.0, -0.5), abs=0.1)
     graph.spin_until(lambda: graph.tf.buffer.can_transform("map", "base_footprint"), "map→base_footprint")
+
+
+def test_random_seed_parameter_makes_the_filter_repeat(ros_context: Any) -> None:
+    """Two filters configured with the same ``random_seed`` draw the same particles; -1 does not repeat."""
+    def first_draws(seed: int) -> np.ndarray:
+        node = AmclNode(context=ros_context, parameter_overrides=[Parameter("random_seed", value=seed)])
+        try:
+            assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+            return node.rng.random(8)
+        finally:
+            node.destroy_node()
+
+    assert np.array_equal(first_draws(7), first_draws(7))
+    assert not np.array_equal(first_draws(7), first_draws(8))
+    assert not np.array_equal(first_draws(-1), first_draws(-1))
