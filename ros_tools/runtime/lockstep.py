@@ -18,14 +18,17 @@ Protocol, on topic ``/lockstep/progress`` (std_msgs/Header, reliable, depth 10):
 
 A participant reports at most every ``report_period`` s of sim time (default 0.02 s, under the
 simulator's 0.05 s lead, so the simulator never waits for a report that is not coming), and on
-every repeated /clock (the simulator re-sends its time while it waits, once per wall 0.1 s). While
-:meth:`LockstepParticipant.hold` is in effect (e.g. until the lifecycle managers report active) it
-reports nothing, and a simulator told to expect its role stays paused.
+every repeated /clock (the simulator re-sends its time while it waits, once per wall 0.1 s). Until
+its ``ready`` predicate is true (e.g. until the lifecycle managers report active) it reports
+nothing, and a simulator told to expect its role stays paused. :meth:`LockstepParticipant.hold`
+pauses it the same way later on, for a bounded wall time (e.g. while a new subscription is being
+discovered).
 """
 
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -69,6 +72,7 @@ class LockstepParticipant:
         self._period_ns = int(report_period * 1e9)
         self._last_clock_ns = -1
         self._last_report_ns = -1
+        self._holds: list[tuple[Callable[[], bool], float]] = []  # (until, wall deadline)
         self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
 
@@ -85,8 +89,26 @@ class LockstepParticipant:
             if not self._ready():
                 return
             self._ready = None  # ready once, ready for good
+        if self._holds and self._held():
+            return
         if repeated or now >= self._last_report_ns + self._period_ns:
             self._report(now)
+
+    def hold(self, until: Callable[[], bool], grace: float) -> None:
+        """Report nothing until ``until()`` is true or ``grace`` wall seconds have passed.
+
+        Why: a subscription made mid-run hears nothing until DDS discovery has matched it, which
+        takes wall time; at ``--rtf max`` the simulator would run on by seconds of sim time
+        meanwhile, and a sim-time timeout racing that message (a state's 15 s fallback timer against
+        the first bond heartbeat) would be decided by the machine's load. Keep ``grace`` under the
+        simulator's ``lockstep.timeout`` (5 s), or it drops this participant.
+        """
+        self._holds.append((until, time.monotonic() + grace))
+
+    def _held(self) -> bool:
+        now = time.monotonic()
+        self._holds = [(until, deadline) for until, deadline in self._holds if now < deadline and not until()]
+        return bool(self._holds)
 
     def _report(self, now_ns: int) -> None:
         # A zero stamp means "leaving", but the simulator starts at sim time 0 (and holds there while

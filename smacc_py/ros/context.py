@@ -18,8 +18,11 @@ from typing import TYPE_CHECKING
 from smacc_py.core import SmaccError
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from rclpy.node import Node
 
+    from ros_tools.runtime.lockstep import LockstepParticipant
     from ros_tools.tf.ros import TransformListener
 
 _ATTR = "_smacc_ros_context"
@@ -31,10 +34,21 @@ class RosContext:
 
     Attributes:
         node: the machine's node (named after the machine class).
+        participant: the process's lockstep participant (None without ``use_sim_time``).
     """
 
     node: Node
+    participant: LockstepParticipant | None = None
     _tf: TransformListener | None = field(default=None, repr=False)
+
+    def hold_lockstep(self, until: Callable[[], bool], grace_s: float) -> None:
+        """Keep a lockstep simulator from stepping on until ``until()`` or ``grace_s`` wall seconds.
+
+        For a client that just subscribed to something a sim-time deadline waits for (see
+        LockstepParticipant.hold); nothing happens when the machine is not in lockstep.
+        """
+        if self.participant is not None:
+            self.participant.hold(until, grace_s)
 
     def tf_listener(self) -> TransformListener:
         """The machine's one TransformListener (created on first use, shared by every CpPose)."""

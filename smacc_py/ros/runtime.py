@@ -129,6 +129,7 @@ class SmaccRuntime:
             # holds its clock at 0 until this role joins.)
             self.participant = LockstepParticipant(self.node, role=self.sm.name,
                                                    ready=self._discovery_settled)
+            self.ros.participant = self.participant
         self._timer: Any = None
         self._stopping = False
         self._shut_down = False

@@ -52,6 +52,7 @@ ACTION_TYPES: dict[str, Any] = {
 
 #: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
 BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+BOND_DISCOVERY_GRACE_S = 3.0  # wall s lockstep waits for /bond to be matched (under sim2d's 5 s timeout)
 
 _OUTCOME_EVENTS = {
     GoalOutcome.SUCCEEDED: EvActionSucceeded,
@@ -145,6 +146,9 @@ class ClNav2Z(ISmaccClient):
             callback(msg.id, msg.active)
 
         subscription = ctx.node.create_subscription(Status, topic, on_status, BOND_QOS)
+        # In lockstep, sim time waits for DDS to match the heartbeats' publishers: otherwise a state's
+        # sim-time fallback (StAllSensorsGo's 15 s) could run out during discovery at --rtf max.
+        ctx.hold_lockstep(lambda: subscription.get_publisher_count() > 0, BOND_DISCOVERY_GRACE_S)
 
         def unsubscribe() -> None:
             ctx.node.destroy_subscription(subscription)

@@ -215,6 +215,25 @@ def test_the_real_participant_class_keeps_the_sim_going(ros_context: Any) -> Non
         participant.destroy()
 
 
+def test_a_hold_stops_the_sim_until_its_condition_or_its_grace_runs_out(ros_context: Any) -> None:
+    """LockstepParticipant.hold: no report (so no sim time beyond the lead) while the condition is
+    false, the sim goes on once it is true; an unmet condition is given up after its grace."""
+    with lockstep_rig(ros_context, "events", participants=["stack"]) as rig:
+        participant = LockstepParticipant(rig.fake, "stack")
+        rig.spin_until(lambda: rig.newest_clock() > S, "1 s of sim time in lockstep")
+        released = [False]
+        participant.hold(lambda: released[0], grace=30.0)
+        held_at = participant.reported_ns
+        rig.wait_for_repeated_clocks()  # the sim waits, re-sending its time, and no report comes
+        assert participant.reported_ns == held_at
+        assert rig.sim.sim.time_ns <= held_at + LEAD + STEP
+        released[0] = True
+        rig.spin_until(lambda: rig.newest_clock() > held_at + S, "the sim to go on after the release")
+        participant.hold(lambda: False, grace=0.3)
+        rig.spin_until(lambda: rig.newest_clock() > held_at + 2 * S, "the sim to go on after the grace")
+        participant.destroy()
+
+
 def test_an_expected_role_that_never_reports_is_named_once_and_the_sim_starts(ros_context: Any) -> None:
     with lockstep_rig(ros_context, participants=["absent"], startup_timeout=0.5) as rig:
         rig.spin_until(lambda: rig.newest_clock() > S, "the sim to start without the absent role")
