@@ -17,9 +17,8 @@ step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"
 # The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
-# not wall time. NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own
-# ROS_DOMAIN_ID, about 6 instead of 9 to 11 minutes); not the default yet because two workers
-# still expose load dependence the lockstep does not cover (cross-process delivery and discovery
-# measured in sim time: see the issue 17 note). Until that is gone a failed test is re-run at most
-# twice, each re-run showing as R: a test that needs one is still a defect to find.
-"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-0}" --reruns 2 --reruns-delay 2 "$@"
+# not wall time, and no failed test is re-run: one that fails is a defect to find.
+# NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own ROS_DOMAIN_ID,
+# about twice as fast); not the default yet because two workers still expose load dependence the
+# lockstep does not cover (cross-process delivery and discovery measured in sim time).
+"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-0}" "$@"

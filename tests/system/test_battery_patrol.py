@@ -13,7 +13,6 @@ Slow. Skipped until nav_stack.ros.bringup exists.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 
@@ -29,18 +28,13 @@ pytestmark = [pytest.mark.slow, pytest.mark.ros]
 SEED_TRACE = ["location1", "location2", "location3", "location4", "station", "wait", "recharge"] * 2
 
 
-#: At rtf max this run once went on for over 10 wall minutes in a fresh-clone CI run (5/5 passed
-#: alone, in about 20 s): it stays at real time until that is understood (open in the issue 17 note).
-AUTONOMY_RTF = os.environ.get("NAV_SYSTEM_TEST_RTF", "1")
-
-
 def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
-    launcher = start_stack(AUTONOMY_RTF)
+    launcher = start_stack(SYSTEM_RTF)
     try:
         set_initial_pose()
         params = {"battery_source": "counter", "max_cycles": 4, "server_timeout": 60.0}
-        # 240 s wall (about 140 s at rtf 1): a stuck run fails with the node's output, inside the
-        # suite's 300 s limit.
+        # 240 s wall (about 140 s of sim time, 15-20 s wall in lockstep at rtf max): a stuck run
+        # fails with the node's output, inside the suite's 300 s limit.
         run = run_autonomy(params, timeout=240.0)
     finally:
         launcher.shutdown()  # type: ignore[attr-defined]
