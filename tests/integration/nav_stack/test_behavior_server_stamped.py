@@ -18,6 +18,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.ros import behavior_server, controller_server
+from nav_stack.ros.frames import FrameError
 from ros_tools.runtime.actions import ActionClient
 from tests.helpers.nav_ros_world import (
     Harness,
@@ -54,6 +55,9 @@ def test_stamped_commands_drive_a_stamped_robot(ros_context: Any) -> None:
         for server in ("behavior_server", "controller_server"):
             infos = [i for i in probe.get_publishers_info_by_topic("/cmd_vel") if i.node_name == server]
             assert [i.topic_type for i in infos] == ["geometry_msgs/msg/TwistStamped"], server
+        # The robot's frames cross processes after DDS discovery (sim2d is not in lockstep here): a
+        # behavior asked for before the server knows base_link in odom fails with TF_ERROR, as in Nav2.
+        wait_until(lambda: _knows_the_robot(behaviors), 20.0, "odom -> base_link at the behavior server")
         _, _, yaw0 = world.pose()
         handle = send_goal(ActionClient(probe, Spin, "spin"),
                            Spin.Goal(target_yaw=1.0, time_allowance=Duration(sec=10)))
@@ -66,3 +70,11 @@ def test_stamped_commands_drive_a_stamped_robot(ros_context: Any) -> None:
     finally:
         harness.close()
         stop_process(proc)
+
+
+def _knows_the_robot(server: Any) -> bool:
+    try:
+        server.frames.robot_pose("odom")
+    except FrameError:
+        return False
+    return True
