@@ -32,6 +32,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.core.control import (
+    FINAL_TURN_PROGRESS,
     CircleFootprint,
     ControllerError,
     ControllerErrorCode,
@@ -94,6 +95,7 @@ class _PathRun(GoalRun):
         self.handler = PathHandler()
         self.frame = handle.request.path.header.frame_id
         self.last_valid = -math.inf
+        self.turning_at_goal = False  # xy of the goal reached: only the final rotation remains
 
 
 class ControllerServer(NavLifecycleNode):
@@ -187,6 +189,7 @@ class ControllerServer(NavLifecycleNode):
         if seamless:
             checker.reset()
             run.last_valid = old.last_valid  # type: ignore[union-attr]
+            run.turning_at_goal = old.turning_at_goal  # type: ignore[union-attr]
         else:
             for plugin in (controller, checker, progress):
                 plugin.reset()
@@ -261,12 +264,15 @@ class ControllerServer(NavLifecycleNode):
                                    f"{tuple(round(v, 3) for v in robot)} ({run.frame})")
             self._end(run, Outcome.SUCCEEDED, Code.NONE, "")
             return
-        if checker.xy_reached:
-            progress.reset()  # a final rotation in place is not a lack of progress
-        if not progress.check(robot, now):
+        if checker.xy_reached and not run.turning_at_goal:
+            run.turning_at_goal = True
+            progress.reset()  # the final rotation gets a fresh window, in which turning is progress
+        if not progress.check(robot, now, turning=run.turning_at_goal):
+            radius = progress.params.required_movement_radius
+            moved = (f"turned less than {FINAL_TURN_PROGRESS} rad toward the goal heading"
+                     if run.turning_at_goal else f"moved less than {radius} m")
             self._end(run, Outcome.ABORTED, Code.FAILED_TO_MAKE_PROGRESS,
-                      f"the robot moved less than {progress.params.required_movement_radius} m in "
-                      f"{progress.params.movement_time_allowance} s")
+                      f"the robot {moved} in {progress.params.movement_time_allowance} s")
             return
         grid = CostGrid(*snap)
         local_path = run.handler.local_path(robot, frames.frame_pose(local_frame, run.frame), grid)

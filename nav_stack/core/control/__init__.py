@@ -12,6 +12,7 @@ from nav_stack.core.control.base import (
     Twist2D,
 )
 from nav_stack.core.control.checkers import (
+    FINAL_TURN_PROGRESS,
     GoalCheckerParams,
     ProgressCheckerParams,
     SimpleGoalChecker,
@@ -24,6 +25,7 @@ from nav_stack.core.control.rpp import RegulatedPurePursuit, RPPParams
 from nav_stack.core.control.server import ControllerPlugins, InvalidController, LocalController
 
 __all__ = [
+    "FINAL_TURN_PROGRESS",
     "CircleFootprint",
     "ControllerError",
     "ControllerErrorCode",

@@ -2,10 +2,12 @@
 
 Final rotation at the goal and progress: a robot turning in place at the goal does not move, so a
 SimpleProgressChecker would report FAILED_TO_MAKE_PROGRESS during a long final rotation. The
-controller server therefore calls ``progress_checker.reset()`` on every cycle in which
-``goal_checker.xy_reached`` is true (the position part of the goal is met, only yaw remains);
-the next ``check`` re-anchors the movement window at the current pose and time, so time spent
-rotating at the goal never counts against ``movement_time_allowance``.
+controller server therefore resets the progress checker once when ``goal_checker.xy_reached``
+becomes true (the position part of the goal is met, only yaw remains) and from then on checks with
+``turning=True``: a heading change of FINAL_TURN_PROGRESS counts as progress too (as Nav2's
+PoseProgressChecker's ``required_movement_angle``). A robot that can neither move nor turn there
+(wedged against an obstacle) still fails after ``movement_time_allowance`` instead of turning
+forever.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from dataclasses import dataclass
 
 from nav_stack.core.control.base import Twist2D
 from nav_stack.core.geometry import Pose2D, angle_diff
+
+FINAL_TURN_PROGRESS = 0.5  # rad: heading change that counts as progress while turning at the goal
 
 
 @dataclass(frozen=True)
@@ -92,7 +96,7 @@ class ProgressCheckerParams:
 class SimpleProgressChecker:
     """Fails when the robot stays within ``required_movement_radius`` for ``movement_time_allowance``.
 
-    Rotation does not count as progress (see the module docstring for rotation at the goal).
+    Rotation counts only at the goal (``turning``; see the module docstring).
     """
 
     def __init__(self, params: ProgressCheckerParams | None = None) -> None:
@@ -104,12 +108,16 @@ class SimpleProgressChecker:
         """Drop the baseline; the next check starts a fresh window at the pose it is given."""
         self._baseline = None
 
-    def check(self, pose: Pose2D, now: float) -> bool:
-        """True while progress is adequate; ``now`` in seconds (sim or steady clock)."""
+    def check(self, pose: Pose2D, now: float, turning: bool = False) -> bool:
+        """True while progress is adequate; ``now`` in seconds (sim or steady clock).
+
+        ``turning``: the robot is turning at the goal, so FINAL_TURN_PROGRESS of heading counts too.
+        """
         base = self._baseline
         if (
             base is None
             or math.hypot(pose.x - base.x, pose.y - base.y) > self.params.required_movement_radius
+            or (turning and abs(angle_diff(pose.yaw, base.yaw)) > FINAL_TURN_PROGRESS)
         ):
             self._baseline, self._baseline_time = pose, now
             return True

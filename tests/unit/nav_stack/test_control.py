@@ -464,13 +464,25 @@ def test_final_rotation_at_goal_is_not_lack_of_progress() -> None:
         SimpleProgressChecker(),
     )
     pose = Pose2D(0.1, 0.0, 0.0)
+    assert progress.check(pose, 0.0)
+    turning = False
     for k in range(400):  # 40 s of slow rotation at 0.1 rad/s inside the xy tolerance
         now = 0.1 * k
         if goal_checker.is_goal_reached(pose, goal, Twist2D(0.0, 0.1)):
             break
-        if goal_checker.xy_reached:
+        if goal_checker.xy_reached and not turning:
+            turning = True
             progress.reset()
-        assert progress.check(pose, now), f"progress failure while rotating at the goal, t={now}"
+        assert progress.check(pose, now, turning=turning), f"no progress while turning at the goal, t={now}"
         pose = Pose2D(pose.x, pose.y, pose.yaw + 0.01)
     else:
         pytest.fail("never reached the goal heading")
+
+
+def test_a_robot_that_cannot_turn_at_the_goal_fails_to_make_progress() -> None:
+    """Wedged inside the xy tolerance (commanded to turn, but only wobbling): FAILED_TO_MAKE_PROGRESS
+    after movement_time_allowance, not a final rotation that never ends."""
+    progress = SimpleProgressChecker()
+    progress.reset()
+    results = [progress.check(Pose2D(0.1, 0.0, 0.1 * math.sin(k)), 0.1 * k, turning=True) for k in range(120)]
+    assert all(results[:100]) and not results[-1]
