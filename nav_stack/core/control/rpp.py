@@ -21,7 +21,11 @@ robot stops there to turn onto the goal heading, so the rest of the arc is never
 that cut, a goal a few centimetres outside an obstacle's inscribed band (the seed's location3 beside
 a pillar) is unreachable: the local costmap's lidar cells put the path's last stretch inside the
 band, and every arc toward the goal "collides" beyond the point where the robot would have stopped.
-A robot that finds itself inside the band may still turn and move out (``motion_collides``).
+A robot that finds itself inside the band may still turn and move out (``motion_collides``). And
+where the robot stopped to turn (up to ``goal_dist_tol`` short of such a goal, nearer the obstacle
+than the goal itself), a final turn that would swing the body into it is not forced: the robot
+creeps on toward the goal point at ``min_approach_linear_velocity`` and turns there (seen: the seed
+patrol wedged at location3 in about one run of six, every recovery refused).
 
 Two more choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
 ``stateful`` (Nav2 PR #5167, later releases) keeps rotating to the goal heading once the goal was
@@ -215,9 +219,24 @@ class RegulatedPurePursuit:
             reach = float(np.hypot(*carrot))
             if not (p.use_collision_detection and self._collision_ahead(robot, cmd, reach, grid, path[-1])):
                 return cmd
+            if self._rotating_to_goal_heading(path[-1], local[-1]):  # the final turn is what is blocked
+                return self._creep_to_goal(robot, local[-1], grid, closest)
             if lookahead <= closest:
                 return self._align_with(carrot, robot, velocity, grid)
             lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
+
+    def _creep_to_goal(self, robot: Pose2D, goal: FloatArray, grid: CostGrid, done: float) -> Twist2D:
+        """The final turn is blocked where the robot stopped (up to ``goal_dist_tol`` short of the goal,
+        its body would swing into an obstacle): creep on along the arc to the goal position, which the
+        planner put clear of obstacles, and turn there. Raise when already within ``done`` (m) of it,
+        when it lies behind, or when that arc is blocked too."""
+        distance = float(np.hypot(goal[0], goal[1]))
+        if distance > done and goal[0] > 0.0:
+            speed = self.params.min_approach_linear_velocity
+            creep = Twist2D(speed, speed * curvature_to(goal[:2]))
+            if not self._collision_ahead(robot, creep, distance, grid):
+                return creep
+        raise NoValidControl("collision ahead: the turn onto the goal heading is blocked")
 
     def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid) -> Twist2D:
         """Even the arc to the closest carrot is blocked: turn on the spot toward that carrot (the

@@ -232,6 +232,19 @@ def test_stateless_rpp_drives_back_toward_the_goal_point_as_nav2_jazzy_does() ->
     assert cmd.vx > 0.0  # back toward the goal point, away from the final turn
 
 
+def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopped() -> None:
+    """0.2 m short of the goal a turn on the spot would swing the body into an obstacle (simulated
+    here: every turn collides, every forward arc is free): creep on toward the goal point, slowly;
+    at the goal point itself, with the turn still blocked, say why instead."""
+    rpp, grid, path = _rpp_near_goal(stateful=True)
+    rpp.params = RPPParams(stateful=True)  # collision detection on
+    rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
+    creep = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert creep.vx == pytest.approx(rpp.params.min_approach_linear_velocity) and abs(creep.wz) < 1e-9
+    with pytest.raises(NoValidControl, match="turn onto the goal heading is blocked"):
+        rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+
+
 def test_rpp_brakes_an_in_place_turn_to_stop_on_its_target() -> None:
     spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
     grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
