@@ -1,7 +1,13 @@
-"""amcl on a scripted tour of turtlebot3_world in sim2d (drifting odometry): tracking, global, kidnap.
+"""amcl on a scripted tour of turtlebot3_world in sim2d (drifting odometry): tracking and global.
 
-Nav2's default parameters throughout (alphas 0.2, sigma_hit 0.2, 60 beams, 500–2000 particles);
-the kidnap run enables recovery with Nav2's suggested recovery_alpha_slow/fast 0.001/0.1. Each test
+No kidnap test here: in this nearly symmetric world, whether random-particle recovery finds the
+true pose after a teleport is luck (11 lockstep runs, 2026-11-25: 9 recovered within 30 s, on the
+true pose or its 180° twin; 2 held a 90° pillar-grid alias for 150 s of driving), so a test of it would fail
+now and then by the algorithm's nature. bench/bench_localization.py records the recovery time, and
+tests/unit/nav_stack/test_amcl.py checks the recovery mechanism deterministically in an asymmetric
+room.
+
+Nav2's default parameters throughout (alphas 0.2, sigma_hit 0.2, 60 beams, 500–2000 particles). Each test
 prints its measured numbers (run with -s); bench/bench_localization.py records them. The bounds are
 what the filter meets on a loaded 2-core machine (measured in 8 runs: tracking RMS 0.039–0.043 m /
 0.025–0.03 rad, max 0.09–0.11 m, once 0.077 m RMS with a 0.46 m excursion), so they catch a biased
@@ -17,7 +23,7 @@ import pytest
 
 pytest.importorskip("nav2_msgs.srv")
 
-from tests.helpers.nav_ros_loc_tour import CONVERGED, RECOVERED_SAMPLES, RECOVERY, TourRun
+from tests.helpers.nav_ros_loc_tour import CONVERGED, TourRun
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
@@ -48,18 +54,3 @@ def test_global_localization_converges_on_the_tour(ros_context: Any, tmp_path: P
     print(f"\nglobal: converged (< {CONVERGED} m) after {result.samples[start].distance:.2f} m driven, "
           f"RMS afterwards {rms_xy:.3f} m")
     assert rms_xy < 0.08
-
-
-def test_kidnapped_robot_is_recovered(ros_context: Any, tmp_path: Path) -> None:
-    result = TourRun(ros_context, kidnap=True, amcl_params=RECOVERY).run(tmp_path)
-    _check_run(result)
-    assert result.kidnap_time is not None
-    before = result.converged_index(until=result.kidnap_time)
-    assert before is not None, "not localized before the kidnapping"
-    # The world is point-symmetric but for one block: the 180° twin of the true pose counts too.
-    after = result.converged_index(after=result.kidnap_time, up_to_symmetry=True)
-    assert after is not None and len(result.samples) - after >= RECOVERED_SAMPLES, \
-        [(round(s.t, 1), round(s.error_xy, 2), round(s.error_twin, 2)) for s in result.samples]
-    recovery = result.samples[after].t - result.kidnap_time
-    pose = "the true pose" if result.samples[-1].error_xy < CONVERGED else "the 180° twin of the true pose"
-    print(f"\nkidnap: recovered {recovery:.1f} sim s after a 2 m teleport, on {pose}")
