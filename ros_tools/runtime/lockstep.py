@@ -107,7 +107,8 @@ class LockstepParticipant:
 
     def _held(self) -> bool:
         now = time.monotonic()
-        self._holds = [(until, deadline) for until, deadline in self._holds if now < deadline and not until()]
+        self._holds = [(until, deadline) for until, deadline in self._holds
+                       if now < deadline and not _released(until)]
         return bool(self._holds)
 
     def _report(self, now_ns: int) -> None:
@@ -133,6 +134,15 @@ class LockstepParticipant:
         self.leave()
         self.node.destroy_subscription(self._sub)
         self.node.destroy_publisher(self._pub)
+
+
+def _released(until: Callable[[], bool]) -> bool:
+    """``until()``, where an error (e.g. the entity it asks was destroyed) also ends the hold: an
+    exception here would end this /clock callback, and with it every report of the process."""
+    try:
+        return bool(until())
+    except Exception:  # any failure of a hold condition releases it
+        return True
 
 
 def uses_sim_time(node: Any) -> bool:

@@ -146,11 +146,14 @@ class ClNav2Z(ISmaccClient):
             callback(msg.id, msg.active)
 
         subscription = ctx.node.create_subscription(Status, topic, on_status, BOND_QOS)
+        subscribed = [True]
         # In lockstep, sim time waits for DDS to match the heartbeats' publishers: otherwise a state's
         # sim-time fallback (StAllSensorsGo's 15 s) could run out during discovery at --rtf max.
-        ctx.hold_lockstep(lambda: subscription.get_publisher_count() > 0, BOND_DISCOVERY_GRACE_S)
+        ctx.hold_lockstep(lambda: not subscribed[0] or subscription.get_publisher_count() > 0,
+                          BOND_DISCOVERY_GRACE_S)
 
         def unsubscribe() -> None:
+            subscribed[0] = False  # the hold must not ask a destroyed subscription
             ctx.node.destroy_subscription(subscription)
 
         return unsubscribe

@@ -231,6 +231,12 @@ def test_a_hold_stops_the_sim_until_its_condition_or_its_grace_runs_out(ros_cont
         rig.spin_until(lambda: rig.newest_clock() > held_at + S, "the sim to go on after the release")
         participant.hold(lambda: False, grace=0.3)
         rig.spin_until(lambda: rig.newest_clock() > held_at + 2 * S, "the sim to go on after the grace")
+
+        def broken() -> bool:
+            raise RuntimeError("the subscription it asks was destroyed")
+
+        participant.hold(broken, grace=30.0)  # a failing condition releases its hold at once
+        rig.spin_until(lambda: rig.newest_clock() > held_at + 3 * S, "the sim to go on past a broken hold")
         participant.destroy()
 
 
