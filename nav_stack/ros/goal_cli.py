@@ -29,7 +29,6 @@ import yaml
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 SERVER_TIMEOUT = 30.0  # s (wall) to find the action server
 CANCEL_TIMEOUT = 10.0  # s (wall) to wait for the result after a cancel
-ACK_RETRY = 5.0  # s (wall) before an unacknowledged goal is sent again
 STATUS_PERIOD = 0.5  # s between status lines
 
 
@@ -115,33 +114,6 @@ class GoalRunner:
             self._last_status = now
             print(f"\r{text:<100}", end="", flush=True)
 
-    def send_until_acknowledged(self, client: Any, goal: Any, feedback: Any, name: str,
-                                sent: list[tuple[Any, Any]]) -> Any:
-        """Send ``goal`` and resend it every ACK_RETRY s until the server acknowledges one; that future.
-
-        Why: a client that has just discovered a server (``server_is_ready``) can send its goal
-        request before the server's side of the match is complete, and DDS then drops the request
-        without an error (seen under load with Fast DDS). A resend carries a new goal id; a late
-        acknowledgement of an earlier copy is canceled. Every copy's (future, goal id) is appended to
-        ``sent``, so that Ctrl-C before the acknowledgement can still cancel what the server accepted.
-        """
-        from unique_identifier_msgs.msg import UUID
-
-        from ros_tools.runtime.actions import cancel_if_accepted
-
-        deadline = time.monotonic() + SERVER_TIMEOUT
-        while time.monotonic() < deadline:
-            goal_id = UUID(uuid=list(os.urandom(16)))
-            future = client.send_goal_async(goal, feedback_callback=feedback, goal_uuid=goal_id)
-            sent.append((future, goal_id))
-            if self.spin_until(lambda: any(f.done() for f, _ in sent), ACK_RETRY):
-                first = next(f for f, _ in sent if f.done())
-                for extra, _ in sent:
-                    if extra is not first:
-                        extra.add_done_callback(cancel_if_accepted)
-                return first
-        raise RuntimeError(f"'{name}' did not acknowledge the goal within {SERVER_TIMEOUT:.0f} s")
-
     def _cancel_all(self, client: Any, action_type: Any, copies: list[tuple[Any, Any]]) -> None:
         """Cancel every copy of a goal the server may have accepted; wait (CANCEL_TIMEOUT s) for the
         results of the acknowledged ones and the cancel responses of the others.
@@ -168,6 +140,8 @@ class GoalRunner:
         """Send ``goal`` to ``name``; (GoalStatus, result) or raise on no server/rejection."""
         from rclpy.action import ActionClient
 
+        from ros_tools.runtime.actions import send_until_acknowledged
+
         client = ActionClient(self.node, action_type, name)
         if not self.spin_until(client.server_is_ready, SERVER_TIMEOUT):
             raise RuntimeError(f"no '{name}' action server after {SERVER_TIMEOUT:.0f} s "
@@ -175,8 +149,12 @@ class GoalRunner:
         started = time.monotonic()
         copies: list[tuple[Any, Any]] = []  # (future, goal id) of every copy sent
         try:
-            sent = self.send_until_acknowledged(
-                client, goal, lambda msg: self.status(describe(msg.feedback, started)), name, copies)
+            try:
+                sent = send_until_acknowledged(
+                    client, goal, SERVER_TIMEOUT, self.spin_until,
+                    lambda msg: self.status(describe(msg.feedback, started)), copies)
+            except TimeoutError as error:
+                raise RuntimeError(str(error)) from None
             handle = sent.result()
             if not handle.accepted:
                 raise RuntimeError(f"'{name}' rejected the goal")

@@ -14,7 +14,10 @@ A plain (non-async) execute callback works as in rclpy.
 from __future__ import annotations
 
 import inspect
+import os
 import threading
+import time
+from collections.abc import Callable
 from typing import Any
 
 from rclpy.action import ActionClient as RclpyActionClient
@@ -60,6 +63,56 @@ def _traceback() -> str:
     import traceback
 
     return traceback.format_exc()
+
+
+#: s (wall) an unacknowledged goal request waits before it is sent again.
+ACK_RETRY_S = 5.0
+
+#: ``wait(predicate, seconds) -> bool``: True once ``predicate()`` holds, False after ``seconds``.
+Wait = Callable[[Callable[[], bool], float], bool]
+
+
+def poll(predicate: Callable[[], bool], seconds: float) -> bool:
+    """A :data:`Wait` for a client whose node an executor spins in another thread: poll every 20 ms."""
+    deadline = time.monotonic() + seconds
+    while not predicate():
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait = poll,
+                            feedback_callback: Any = None,
+                            copies: list[tuple[Future, Any]] | None = None) -> Future:
+    """Send ``goal`` and send it again every ACK_RETRY_S s until the server answers one copy; that
+    copy's ``send_goal_async`` future (its result may still be a rejection).
+
+    Why: ``server_is_ready`` is the client's view of the match. The server's response writer may not
+    have matched the client's reader yet, and Fast DDS then drops the response after a short wait,
+    without an error; a request that reaches a reader still matching can be dropped the same way.
+    Seen under load and right after a stack restarts. Each copy carries a new goal id; a copy
+    acknowledged after the first is canceled if accepted, so that it cannot preempt the first.
+    Every copy's (future, goal id) is appended to ``copies``, so that a caller interrupted before the
+    acknowledgement can cancel what the server accepted. TimeoutError after ``timeout`` s (wall).
+    """
+    from unique_identifier_msgs.msg import UUID
+
+    copies = [] if copies is None else copies
+    answered = lambda: any(future.done() for future, _ in copies)  # noqa: E731
+    deadline = time.monotonic() + timeout
+    while (left := deadline - time.monotonic()) > 0:
+        goal_id = UUID(uuid=list(os.urandom(16)))
+        copies.append((client.send_goal_async(goal, feedback_callback=feedback_callback,
+                                              goal_uuid=goal_id), goal_id))
+        if wait(answered, min(ACK_RETRY_S, left)):
+            first = next(future for future, _ in copies if future.done())
+            for extra, _ in copies:
+                if extra is not first:
+                    extra.add_done_callback(cancel_if_accepted)
+            return first
+    raise TimeoutError(f"'{client._action_name}' did not acknowledge the goal within {timeout:.0f} s "
+                       f"({len(copies)} copies sent)")
 
 
 def cancel_if_accepted(future: Future) -> None:

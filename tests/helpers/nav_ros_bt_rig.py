@@ -11,7 +11,7 @@ from typing import Any
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.runner import spin_until_shutdown
 from tests.helpers.nav_ros_bt_fakes import FakeNav2
@@ -46,10 +46,8 @@ class Rig:
         self.feedback.append(msg.feedback)
 
     def send(self, client: ActionClient, goal: Any) -> Any:
-        """Send ``goal``, wait for acceptance; the goal handle."""
-        future = client.send_goal_async(goal, feedback_callback=self._on_feedback)
-        self.wait(future.done, "goal acknowledgement")
-        handle = future.result()
+        """Send ``goal`` until acknowledged; the (accepted) goal handle."""
+        handle = send_until_acknowledged(client, goal, 20.0, feedback_callback=self._on_feedback).result()
         assert handle.accepted, "goal rejected"
         return handle
 

@@ -29,6 +29,7 @@ from std_srvs.srv import Empty, SetBool
 
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
+from ros_tools.runtime.actions import send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.runner import spin_until_shutdown
 from ros_tools.tf import Transform
@@ -178,9 +179,7 @@ def send_goal(client: Any, goal: Any, timeout: float = 15.0, feedback: Callable[
               ) -> Any:
     """Send an action goal and return the accepted goal handle."""
     wait_until(lambda: client.server_is_ready(), timeout, f"action server {client._action_name}")
-    future = client.send_goal_async(goal, feedback_callback=feedback)
-    wait_until(future.done, timeout, f"acceptance of a {type(goal).__name__}")
-    handle = future.result()
+    handle = send_until_acknowledged(client, goal, timeout, feedback_callback=feedback).result()
     assert handle.accepted, f"{type(goal).__name__} rejected"
     return handle
 

@@ -43,6 +43,21 @@ def spin_until(
         executor.spin_once(timeout_sec=step)
 
 
+def spinning(executor: Executor, step: float = 0.02) -> Callable[[Callable[[], bool], float], bool]:
+    """A ``wait(predicate, seconds) -> bool`` that spins ``executor`` meanwhile, for
+    ros_tools.runtime.actions.send_until_acknowledged from the thread that spins the client."""
+
+    def wait(predicate: Callable[[], bool], seconds: float) -> bool:
+        deadline = time.monotonic() + seconds
+        while not predicate():
+            if time.monotonic() > deadline:
+                return False
+            executor.spin_once(timeout_sec=step)
+        return True
+
+    return wait
+
+
 def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condition",
                step: float = 0.02) -> None:
     """Poll ``predicate()`` (without spinning) until true; fail after ``timeout`` seconds."""

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from tests.helpers.nav_ros_bt_stack import READY, Bringup
-from tests.helpers.ros import spin_until
+from tests.helpers.ros import spin_until, spinning
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
@@ -21,7 +21,7 @@ def test_slam_bringup_maps_and_navigates_on_the_growing_map(ros_context):
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-    from ros_tools.runtime.actions import ActionClient
+    from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 
     stack = Bringup("--slam")
     node = rclpy.create_node("slam_bringup_probe", context=ros_context)
@@ -45,8 +45,7 @@ def test_slam_bringup_maps_and_navigates_on_the_growing_map(ros_context):
         goal.pose.header.frame_id = "map"
         goal.pose.pose.position.x, goal.pose.pose.position.y = -1.4, -0.5
         goal.pose.pose.orientation.w = 1.0
-        sent = client.send_goal_async(goal)
-        spin_until(executor, sent.done, 30.0, "goal acceptance")
+        sent = send_until_acknowledged(client, goal, 30.0, spinning(executor))
         result = sent.result().get_result_async()
         spin_until(executor, result.done, 240.0, "the navigation result")
         assert result.result().status == GoalStatus.STATUS_SUCCEEDED, stack.output()

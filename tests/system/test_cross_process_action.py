@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from tests.helpers.nav2_echo_server import ACTION_NAME
-from tests.helpers.ros import REPO, spin_until, start_python, stop_process
+from tests.helpers.ros import REPO, spin_until, spinning, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 
@@ -17,7 +17,7 @@ def test_navigate_to_pose_goal_feedback_and_result_cross_processes(ros_context):
     from nav2_msgs.action import NavigateToPose
     from rclpy.executors import SingleThreadedExecutor
 
-    from ros_tools.runtime.actions import ActionClient
+    from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 
     server = start_python(REPO / "tests" / "helpers" / "nav2_echo_server.py")
     node = rclpy.create_node("cross_process_client", context=ros_context)
@@ -35,8 +35,8 @@ def test_navigate_to_pose_goal_feedback_and_result_cross_processes(ros_context):
         goal.pose.pose.position.y = -0.5
         goal.pose.pose.orientation.w = 1.0
         feedback: list[NavigateToPose.Feedback] = []
-        send = client.send_goal_async(goal, feedback_callback=lambda msg: feedback.append(msg.feedback))
-        spin_until(executor, send.done, 30.0, "goal acceptance")
+        send = send_until_acknowledged(client, goal, 30.0, spinning(executor),
+                                       lambda msg: feedback.append(msg.feedback))
         handle = send.result()
         assert handle.accepted
         result_future = handle.get_result_async()

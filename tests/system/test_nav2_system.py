@@ -9,10 +9,8 @@ yaml), as in Nav2, so the pillar test first sets the tolerance to 0 over ``param
 
 from __future__ import annotations
 
-import contextlib
 import math
 import threading
-import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,7 +25,7 @@ from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from ros_tools.runtime.actions import ActionClient, cancel_if_accepted
+from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros_cli import DISCOVERY, run_cli
@@ -57,20 +55,9 @@ class Client:
         self.feedback.append(msg.feedback)
 
     def send(self, goal: NavigateToPose.Goal) -> Any:
-        """Send ``goal``; resend every 5 s while unacknowledged (see goal_cli.send_until_acknowledged)."""
+        """Send ``goal`` until acknowledged (see ros_tools.runtime.actions.send_until_acknowledged)."""
         self.feedback.clear()
-        sent: list[Any] = []
-        deadline = time.monotonic() + 30.0
-        while not any(f.done() for f in sent):
-            assert time.monotonic() < deadline, "timed out after 30 s waiting for goal acknowledgement"
-            sent.append(self.nav.send_goal_async(goal, feedback_callback=self._on_feedback))
-            with contextlib.suppress(AssertionError):
-                wait(lambda: any(f.done() for f in sent), 5.0, "goal acknowledgement")
-        first = next(f for f in sent if f.done())
-        for extra in sent:  # a copy acknowledged later would preempt the first: cancel it then
-            if extra is not first:
-                extra.add_done_callback(cancel_if_accepted)
-        handle = first.result()
+        handle = send_until_acknowledged(self.nav, goal, 30.0, feedback_callback=self._on_feedback).result()
         assert handle.accepted
         return handle
 

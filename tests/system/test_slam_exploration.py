@@ -48,7 +48,7 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import pose_stamped
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_bringup import slam_processes
-from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_slam_drive import SLAM_MAX_ERROR, SLAM_MAX_MEDIAN_ERROR
@@ -189,8 +189,7 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
                 tf.destroy()
             goal = NavigateToPose.Goal()
             goal.pose = pose_stamped(*GOAL, "map", probe.node.get_clock().now().to_msg())
-            sent = probe.navigate.send_goal_async(goal)
-            wait_until(sent.done, 30.0, "goal acceptance")
+            sent = send_until_acknowledged(probe.navigate, goal, 30.0)
             assert sent.result().accepted
             result = sent.result().get_result_async()
             wait_until(lambda: result.done() or not stack.alive(), 300.0, "the navigation result")
