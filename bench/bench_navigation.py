@@ -44,6 +44,7 @@ REPO = Path(__file__).resolve().parents[1]
 MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
 MIN_CLEARANCE = 0.4  # m
 MAX_SPEED = 0.26  # m/s, waffle (controller max_vel_x)
+HOLD_GRACE = 3.0  # s (wall) the simulator may wait for a goal's acknowledgement (under its 5 s timeout)
 GOAL_TIMEOUT = 120.0  # s (wall) per goal; a goal ideally takes under 40 s
 PLAN_ACK_RETRY = 5.0  # s (wall) before an unacknowledged plan request is sent again
 PLAN_SENDS = 6
@@ -88,7 +89,7 @@ def endless_battery_params() -> Path:
 class Driver:
     """Client node: plans, navigates, counts collisions, reads /clock."""
 
-    def __init__(self) -> None:
+    def __init__(self, lockstep: bool) -> None:
         import rclpy
         from nav2_msgs.action import ComputePathToPose, NavigateToPose
         from nav_msgs.msg import Odometry
@@ -98,6 +99,7 @@ class Driver:
 
         from ros_tools.runtime.actions import ActionClient  # safe to send from this thread while spun
         from ros_tools.runtime.executor import make_executor
+        from ros_tools.runtime.lockstep import LockstepParticipant
 
         rclpy.init()
         self.node = rclpy.create_node("bench_navigation")
@@ -117,6 +119,9 @@ class Driver:
         self.node.create_subscription(Odometry, "ground_truth", self._on_truth, 10)
         # The C++ events executor keeps up with /clock at 100 Hz of sim time at any real-time factor,
         # so self.sim_time is current when a result arrives (its done callback reads it there).
+        # In lockstep the simulator waits for this client while a goal request is on its way, so that
+        # DDS latency (wall ms, tenths of a sim second at rtf 10) is not counted as navigation time.
+        self.lockstep = LockstepParticipant(self.node, "bench_navigation") if lockstep else None
         self.executor = make_executor("events")
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -214,8 +219,12 @@ class Driver:
                 result.add_done_callback(on_result)
                 outcome.append(result)
 
+        requests: list[Any] = []  # held from before the send, so no report slips in between
+        if self.lockstep is not None:
+            self.lockstep.hold(lambda: bool(requests) and requests[0].done(), HOLD_GRACE)
         sent = self.nav.send_goal_async(NavigateToPose.Goal(pose=self.pose(*goal)),
                                         feedback_callback=on_feedback)
+        requests.append(sent)
         sent.add_done_callback(on_accepted)
         if not self._wait(sent, 30.0) or not sent.result().accepted:
             return False, 0.0, "goal not accepted"
@@ -233,6 +242,8 @@ class Driver:
     def close(self) -> None:
         import rclpy
 
+        if self.lockstep is not None:
+            self.lockstep.destroy()
         self.executor.shutdown()
         self.node.destroy_node()
         rclpy.try_shutdown()
@@ -283,7 +294,7 @@ def main() -> int:
     try:
         if not ready.wait(300.0):
             raise RuntimeError("nav-bringup did not print 'Nav2 is ready' within 300 s")
-        driver = Driver()
+        driver = Driver(args.lockstep)
         deadline = time.monotonic() + 60.0
         while not (driver.nav.server_is_ready() and driver.plan.server_is_ready() and driver.sim_time > 0.0):
             if time.monotonic() > deadline:

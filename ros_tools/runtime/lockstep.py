@@ -28,6 +28,7 @@ discovered).
 from __future__ import annotations
 
 import os
+import threading
 import time
 from collections.abc import Callable
 from typing import Any
@@ -73,6 +74,7 @@ class LockstepParticipant:
         self._last_clock_ns = -1
         self._last_report_ns = -1
         self._holds: list[tuple[Callable[[], bool], float]] = []  # (until, wall deadline)
+        self._holds_lock = threading.Lock()  # hold() may come from another thread than /clock's
         self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
 
@@ -103,13 +105,15 @@ class LockstepParticipant:
         the first bond heartbeat) would be decided by the machine's load. Keep ``grace`` under the
         simulator's ``lockstep.timeout`` (5 s), or it drops this participant.
         """
-        self._holds.append((until, time.monotonic() + grace))
+        with self._holds_lock:
+            self._holds.append((until, time.monotonic() + grace))
 
     def _held(self) -> bool:
         now = time.monotonic()
-        self._holds = [(until, deadline) for until, deadline in self._holds
-                       if now < deadline and not _released(until)]
-        return bool(self._holds)
+        with self._holds_lock:
+            self._holds = [(until, deadline) for until, deadline in self._holds
+                           if now < deadline and not _released(until)]
+            return bool(self._holds)
 
     def _report(self, now_ns: int) -> None:
         # A zero stamp means "leaving", but the simulator starts at sim time 0 (and holds there while
