@@ -17,7 +17,7 @@ Result: on failure, error_code/error_msg come from the first non-zero code among
 ``error_code_names`` on the blackboard, with the failing server and its message, e.g.
 "'compute_path_to_pose' failed with error code 206 (GOAL_OCCUPIED): ...". Status changes are
 published as nav2_msgs/BehaviorTreeLog on ``behavior_tree_log``; a PoseStamped on ``goal_pose``
-(RViz's "Nav2 Goal") is sent to our own navigate_to_pose.
+(RViz's "Nav2 Goal") is sent to our own navigate_to_pose (nav_stack/ros/goal_pose_forwarder.py).
 """
 
 from __future__ import annotations
@@ -26,11 +26,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from geometry_msgs.msg import PoseStamped
-from nav2_msgs.action import NavigateToPose
 from nav2_msgs.msg import BehaviorTreeLog, BehaviorTreeStatusChange
 from nav_msgs.msg import Odometry
-from rclpy.action import ActionClient, CancelResponse, GoalResponse
+from rclpy.action import CancelResponse, GoalResponse
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -46,6 +44,7 @@ from nav_stack.ros.bt_nodes.navigators import (
     RobotState,
 )
 from nav_stack.ros.frames import Frames
+from nav_stack.ros.goal_pose_forwarder import GoalPoseForwarder
 from nav_stack.ros.goal_runs import GoalRun, Outcome
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run
@@ -128,8 +127,7 @@ class BtNavigator(NavLifecycleNode):
             self._load(navigator.default_tree)  # fail the transition on a broken default tree
         self._log_pub = self.create_publisher(BehaviorTreeLog, "behavior_tree_log", DEFAULT)
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
-        self._goal_pose_sub = self.create_subscription(PoseStamped, "goal_pose", self._on_goal_pose, DEFAULT)
-        self._self_client = ActionClient(self, NavigateToPose, "navigate_to_pose")
+        self._goal_pose = GoalPoseForwarder(self)
         self._servers = [
             ActionServer(self, nav.action_type, nav.action_name, self._executor_for(nav),
                          goal_callback=self._goal_filter(nav),
@@ -160,9 +158,8 @@ class BtNavigator(NavLifecycleNode):
         for server in self._servers:
             server.destroy()
         self._servers = []
-        self._self_client.destroy()
-        for entity in (self._odom_sub, self._goal_pose_sub):
-            self.destroy_subscription(entity)
+        self._goal_pose.destroy()
+        self.destroy_subscription(self._odom_sub)
         self.destroy_publisher(self._log_pub)
         self.selectors.destroy()
         self.ros.destroy()
@@ -192,14 +189,6 @@ class BtNavigator(NavLifecycleNode):
                 replaced[0].finish(Outcome.ABORTED, error_msg="replaced by a newer goal before it started")
             return await goal_run.wait()
         return execute
-
-    def _on_goal_pose(self, msg: PoseStamped) -> None:
-        if not self._self_client.server_is_ready():
-            self.get_logger().warn("goal_pose received but navigate_to_pose is not available")
-            return
-        position = msg.pose.position
-        self.get_logger().info(f"goal_pose: navigating to ({position.x:.2f}, {position.y:.2f})")
-        self._self_client.send_goal_async(NavigateToPose.Goal(pose=msg))
 
     def _on_odom(self, msg: Odometry) -> None:
         v = msg.twist.twist.linear
