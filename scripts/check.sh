@@ -18,7 +18,6 @@ step "import-linter"
 step "pytest"
 # The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
 # not wall time, and no failed test is re-run: one that fails is a defect to find.
-# NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own ROS_DOMAIN_ID,
-# about twice as fast); not the default yet because two workers still expose load dependence the
-# lockstep does not cover (cross-process delivery and discovery measured in sim time).
-"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-0}" "$@"
+# Two pytest-xdist workers by default (each its own ROS_DOMAIN_ID): both cores busy, so every run
+# is also a test that outcomes do not depend on load. NAVSUITE_TEST_WORKERS=0 runs in one process.
+"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-2}" "$@"
