@@ -71,21 +71,6 @@ def free_poses(min_clearance: float) -> np.ndarray:
     return np.column_stack((xs, ys))
 
 
-def endless_battery_params() -> Path:
-    """config/sim2d.yaml with the battery drain off: 50 goals drive ~60 m, which empties sim2d's battery
-    (2 % per metre) and the robot would stop obeying cmd_vel halfway through the benchmark."""
-    import tempfile
-
-    import yaml
-
-    params = yaml.safe_load((REPO / "config" / "sim2d.yaml").read_text())
-    battery = params["sim2d"]["ros__parameters"].setdefault("battery", {})
-    battery["drain_per_meter"] = battery["drain_per_second"] = 0.0
-    path = Path(tempfile.mkdtemp(prefix="bench_navigation_")) / "sim2d.yaml"
-    path.write_text(yaml.safe_dump(params))
-    return path
-
-
 class Driver:
     """Client node: plans, navigates, counts collisions, reads /clock."""
 
@@ -280,9 +265,8 @@ def main() -> int:
     print(f"navigation: code {version}", flush=True)
     rng = np.random.default_rng(args.seed)
     candidates = free_poses(MIN_CLEARANCE)
-    sim_params = endless_battery_params()
     bringup = subprocess.Popen([sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", args.rtf,
-                                "--sim-params", str(sim_params), "--params", str(args.params),
+                                "--params", str(args.params),
                                 *([] if args.lockstep else ["--no-lockstep"])], cwd=REPO,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     ready = threading.Event()

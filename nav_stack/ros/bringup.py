@@ -139,7 +139,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--map", default=None, help="map_server YAML (default: from --params)")
     parser.add_argument("--params", default=str(DEFAULT_PARAMS), help="Nav2-style parameter file")
     parser.add_argument("--sim-params", default=None,
-                        help="sim2d parameter file (default: sim2d's config/sim2d.yaml)")
+                        help="sim2d parameter file applied over config/sim2d.yaml (e.g. "
+                             "config/sim2d_battery_patrol.yaml)")
     parser.add_argument("--rtf", default="1.0", help="sim real-time factor ('max' = fastest)")
     parser.add_argument("--x", type=float, default=-2.0, help="spawn and initial pose x (m)")
     parser.add_argument("--y", type=float, default=-0.5, help="spawn and initial pose y (m)")
@@ -196,7 +197,8 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
         specs.append(ProcessSpec("sim2d", _python_module(
             "sim2d.ros.cli", "--world", args.world, "--robot", args.robot, "--rtf", args.rtf,
             "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw), *lockstep,
-            *(["--params-file", str(Path(args.sim_params).resolve())] if args.sim_params else [])),
+            *(["--ros-args", "--params-file", str(Path(args.sim_params).resolve())] if args.sim_params
+              else [])),
             ready=r"sim2d", ready_timeout=60.0))
 
     def component(name: str) -> ProcessSpec:

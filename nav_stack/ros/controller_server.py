@@ -6,11 +6,13 @@ The node owns the ``local_costmap`` CostmapROS node (same process). Plugins are 
 
 Each control cycle (a timer on the node clock, so sim time paces it): robot pose from TF in the
 path's frame and in the costmap frame, speed from ``odom``; goal reached → zero command, SUCCEEDED;
-progress checker → FAILED_TO_MAKE_PROGRESS (105); otherwise the controller computes a command from
-the pruned local path. A controller that finds no valid command publishes zero and, after
-``failure_tolerance`` s, ends with PATIENCE_EXCEEDED (104), or at once with NO_VALID_CONTROL (106)
-when the tolerance is 0 (Nav2's rule). An empty path is INVALID_PATH (103), an unknown id
-INVALID_CONTROLLER (101), a missing transform TF_ERROR (102).
+progress checker → FAILED_TO_MAKE_PROGRESS (105), saying so when the robot did not move at all; a
+robot that ignores its commands for ``response_timeout`` s because its battery is empty or its
+odometry stopped → CONTROLLER_TIMED_OUT (107) naming the cause (no recovery can move it); else
+the controller computes a command from the pruned local path. A controller that finds no valid
+command publishes zero and, after ``failure_tolerance`` s, ends with PATIENCE_EXCEEDED (104), or at
+once with NO_VALID_CONTROL (106) when the tolerance is 0 (Nav2's rule). An empty path is
+INVALID_PATH (103), an unknown id INVALID_CONTROLLER (101), a missing transform TF_ERROR (102).
 
 A new goal while one runs takes over at the next cycle: with the same controller the plugins keep
 their state and only the path changes (no stop, the goal checker restarts); the old goal is aborted
@@ -56,6 +58,7 @@ from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.response_monitor import ResponseMonitor
 from nav_stack.ros.selectors import Selector
 from ros_tools.runtime.actions import ActionServer
 
@@ -80,6 +83,11 @@ class ControllerServerParams:
     # shim also keep off lethal cells when the costmap models the robot as a robot_radius circle
     # that does not contain it (CircleFootprint.body); "[]" = the circle only.
     collision_footprint: str = "[]"
+    # Not in Nav2: a robot still for response_timeout s (sim) under significant commands is checked
+    # for a cause no recovery can fix (empty battery on battery_topic, odometry stopped) and the goal
+    # ends with CONTROLLER_TIMED_OUT naming it (nav_stack/core/control/response.py). 0 / "" = off.
+    response_timeout: float = 2.0
+    battery_topic: str = "battery_state"
 
     def __post_init__(self) -> None:
         if not self.controller_frequency > 0.0:
@@ -129,6 +137,7 @@ class ControllerServer(NavLifecycleNode):
         self._pub_local_plan = self.create_publisher(Path, "local_plan", DEFAULT)
         self._selectors = [Selector(self, "controller_selector"), Selector(self, "goal_checker_selector")]
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
+        self._response = ResponseMonitor(self, p.response_timeout, p.battery_topic)
         self._server = ActionServer(self, FollowPath, "follow_path", self._execute,
                                     goal_callback=self._accept_goal, cancel_callback=self._cancel)
 
@@ -153,6 +162,7 @@ class ControllerServer(NavLifecycleNode):
         for selector in self._selectors:
             selector.destroy()
         self.destroy_subscription(self._odom_sub)
+        self._response.destroy()
         self.destroy_publisher(self._pub_local_plan)
         self._cmd.destroy()
         run_transition(self.costmap_node, "cleanup")
@@ -167,6 +177,10 @@ class ControllerServer(NavLifecycleNode):
         wz = twist.angular.z if abs(twist.angular.z) >= p.min_theta_velocity_threshold else 0.0
         self._velocity = Twist2D(vx, wz)
         self._speed = math.hypot(twist.linear.x, twist.linear.y)
+        self._response.odometry_received(self._now())
+
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
 
     async def _execute(self, handle: Any) -> FollowPath.Result:
         goal = handle.request
@@ -191,7 +205,7 @@ class ControllerServer(NavLifecycleNode):
             run.last_valid = old.last_valid  # type: ignore[union-attr]
             run.turning_at_goal = old.turning_at_goal  # type: ignore[union-attr]
         else:
-            for plugin in (controller, checker, progress):
+            for plugin in (controller, checker, progress, self._response):
                 plugin.reset()
         self._current = run
         if self._active:
@@ -248,7 +262,7 @@ class ControllerServer(NavLifecycleNode):
     def _control(self, run: _PathRun) -> None:
         snap = self.costmap_node.snapshot()
         frames = self.costmap_node.frames
-        now = self.get_clock().now().nanoseconds * 1e-9
+        now = self._now()
         if run.last_valid == -math.inf:
             run.last_valid = now
         if snap is None or frames is None:
@@ -272,7 +286,8 @@ class ControllerServer(NavLifecycleNode):
             moved = (f"turned less than {FINAL_TURN_PROGRESS} rad toward the goal heading"
                      if run.turning_at_goal else f"moved less than {radius} m")
             self._end(run, Outcome.ABORTED, Code.FAILED_TO_MAKE_PROGRESS,
-                      f"the robot {moved} in {progress.params.movement_time_allowance} s")
+                      f"the robot {moved} in {progress.params.movement_time_allowance} s"
+                      + self._response.stillness_note())
             return
         grid = CostGrid(*snap)
         local_path = run.handler.local_path(robot, frames.frame_pose(local_frame, run.frame), grid)
@@ -288,6 +303,7 @@ class ControllerServer(NavLifecycleNode):
                 self._end(run, Outcome.ABORTED, Code.PATIENCE_EXCEEDED,
                           f"no valid command for {tolerance} s: {error.message}")
                 return
+        self._response.check(cmd, self._velocity, now)
         self._cmd.publish(cmd.vx, cmd.wz)
         trajectory = getattr(controller, "last_trajectory", None)
         if trajectory is not None and len(trajectory):

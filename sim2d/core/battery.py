@@ -1,10 +1,12 @@
 """Battery as simulated state: drains while driving and idling, charges when resting at the station.
 
-Charge is a fraction of full (0..1). Defaults: 2 % per metre driven plus 0.05 % per second, so a
-full battery lasts about 50 m of driving or 33 min idle; charging adds 2 % per second while the
-robot rests (|v| < rest_linear_velocity, |ω| < rest_angular_velocity) within ``station_radius`` of
-the station, the seed project's (-1.37, -0.82). At 0 the robot cannot drive. Voltage and capacity
-follow the TurtleBot3 LiPo pack (11.1 V, 1.8 Ah).
+Charge is a fraction of full (0..1). Defaults follow the TurtleBot3 waffle: its 19.98 Wh LiPo pack
+(11.1 V, 1.8 Ah) runs it for about 2 h, so 0.011 % per second (2.5 h idle) plus 0.011 % per metre
+(driving at 0.26 m/s for 2 h is 1.9 km). The seed's battery patrol needs a battery that runs low
+within a few rounds: config/sim2d_battery_patrol.yaml sets its accelerated figures (2 % per metre).
+Charging adds ``charge_per_second`` while the robot rests (|v| < rest_linear_velocity,
+|ω| < rest_angular_velocity) within ``station_radius`` of the station, the seed project's
+(-1.37, -0.82). At 0 the robot cannot drive.
 """
 
 from __future__ import annotations
@@ -18,8 +20,8 @@ class BatteryParams:
     """Battery figures: fractions of full charge per metre/second, station pose (m) and radius (m)."""
 
     initial_charge: float = 1.0
-    drain_per_meter: float = 0.02
-    drain_per_second: float = 0.0005
+    drain_per_meter: float = 0.00011
+    drain_per_second: float = 0.00011
     charge_per_second: float = 0.02
     station_x: float = -1.37
     station_y: float = -0.82

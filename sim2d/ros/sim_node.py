@@ -97,9 +97,9 @@ class Sim2dNode(Node):
                          "scan": _period_ns(cfg.lidar.rate), "battery": _period_ns(cfg.node.battery_rate)}
         self._due = dict.fromkeys(self._periods, 0)
         self._clock_sent = (-1, time.monotonic())     # (sim ns, wall s) of the newest /clock sent
+        self._battery_was_empty = False  # before the first publish: it warns about a battery empty at start
         self._publish_due()
         wall = Clock(clock_type=ClockType.STEADY_TIME)
-        self._battery_was_empty = False
         self._anchor = (time.monotonic(), self.sim.time_ns)
         self._rtf_window = (time.monotonic(), self.sim.time_ns)
         self._last_log = time.monotonic()

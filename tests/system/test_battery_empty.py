@@ -1,0 +1,80 @@
+"""A robot with an empty battery: the goal fails at once and its result names the battery.
+
+nav-bringup with sim2d's battery at 0 % (a ``--sim-params`` overlay): sim2d ignores cmd_vel, the
+controller sees the robot still under its commands with /battery_state at 0 % and ends FollowPath
+with CONTROLLER_TIMED_OUT; Nav2's default tree does not recover from that code, so the
+NavigateToPose result carries the message within one progress-checker period (10 s of sim time),
+instead of minutes of spins and back-ups.
+"""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+pytest.importorskip("nav_stack.ros.bringup", reason="the stack does not exist yet")
+
+from action_msgs.msg import GoalStatus
+from nav2_msgs.action import NavigateToPose
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+
+from nav_stack.ros.conversions import pose_stamped
+from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
+from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+PROGRESS_CHECKER_PERIOD = 10.0  # s of sim time: movement_time_allowance in config/nav2_params.yaml
+CONTROLLER_TIMED_OUT = 107
+
+
+@pytest.fixture
+def empty_battery_stack(tmp_path: Path) -> Any:
+    overlay = tmp_path / "empty_battery.yaml"
+    overlay.write_text(yaml.safe_dump({"sim2d": {"ros__parameters": {"battery": {"initial_charge": 0.0}}}}))
+    stack = Bringup("--sim-params", str(overlay))
+    try:
+        stack.wait_for_line(READY, timeout=240.0)
+        yield stack
+    finally:
+        code = stack.stop()
+        assert code in (0, 130), f"nav-bringup ended with {code}:\n{stack.output()}"
+
+
+def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bringup,
+                                                        ros_context: Any) -> None:
+    node = Node("battery_empty_client", context=ros_context)
+    clock: list[float] = []
+    node.create_subscription(Clock, "/clock",
+                             lambda m: clock.append(m.clock.sec + m.clock.nanosec * 1e-9), 10)
+    client = ActionClient(node, NavigateToPose, "navigate_to_pose")
+    executor = SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        wait(client.server_is_ready, 60.0, "navigate_to_pose")
+        wait(lambda: bool(clock), 30.0, "/clock")
+        goal = NavigateToPose.Goal(pose=pose_stamped(-1.0, -0.5, 0.0, "map", node.get_clock().now().to_msg()))
+        sent_at = clock[-1]
+        handle = send_until_acknowledged(client, goal, 30.0).result()
+        assert handle.accepted
+        result = handle.get_result_async()
+        wait(result.done, 120.0, "the navigation result")
+        took = clock[-1] - sent_at
+        response = result.result()
+        print(f"failed after {took:.1f} s of sim time: {response.result.error_msg}")
+        assert response.status == GoalStatus.STATUS_ABORTED
+        assert response.result.error_code == CONTROLLER_TIMED_OUT, response.result.error_msg
+        assert "battery empty: the robot does not respond to cmd_vel" in response.result.error_msg
+        assert took < PROGRESS_CHECKER_PERIOD, f"the goal took {took:.1f} s of sim time to fail"
+        assert any("battery empty" in line for line in empty_battery_stack.lines), "no warning from sim2d"
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        thread.join(timeout=5.0)
