@@ -38,9 +38,12 @@ def test_autonomy_node_runs_the_seed_tree_twice_in_the_simulator() -> None:
         run = run_autonomy(params, timeout=240.0)
     finally:
         launcher.shutdown()  # type: ignore[attr-defined]
-    # Warnings and errors first (a failed goal names its error code there), then the output's end.
+    # Warnings and errors first (a failed goal names its error code there), then the output's end,
+    # then the stack's warnings (the controller's and behaviors' reasons, with sim times).
     report = "\n".join(line for line in run.output.splitlines() if "[WARN]" in line or "[ERROR]" in line)
     report += "\n...\n" + run.output[-3000:]
+    stack_warnings = [line for line in launcher.lines if "WARN" in line or "ERROR" in line]  # type: ignore[attr-defined]
+    report += "\n--- stack warnings ---\n" + "\n".join(stack_warnings[-60:])
     assert run.returncode == 0, report
     assert [result for result, _ in run.cycles()] == ["FAILURE", "SUCCESS"] * 2, report
     assert run.visited() == SEED_TRACE, report
