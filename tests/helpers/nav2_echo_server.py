@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import sys
-import time
 
 FEEDBACK_STEPS = 5
 #: Not Nav2's "navigate_to_pose": a stack left running by another test must not answer our goals.
@@ -21,16 +20,20 @@ def main() -> int:
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     import rclpy
     from nav2_msgs.action import NavigateToPose
-    from rclpy.action import ActionServer
     from rclpy.executors import ExternalShutdownException
 
-    def execute(goal_handle):  # type: ignore[no-untyped-def]
+    from ros_tools.runtime.actions import ActionServer
+    from ros_tools.runtime.waiting import sleep, steady_clock
+
+    async def execute(goal_handle):  # type: ignore[no-untyped-def]
         pose = goal_handle.request.pose.pose.position
-        # Feedback is only useful once the client's feedback subscription has matched ours.
-        deadline = time.monotonic() + 10.0
+        # Feedback is only useful once the client's feedback subscription has matched ours: wait
+        # for it (10 s at most) without blocking the executor.
         feedback_topic = f"{ACTION_NAME}/_action/feedback"
-        while node.count_subscribers(feedback_topic) == 0 and time.monotonic() < deadline:
-            time.sleep(0.01)
+        for _ in range(1000):
+            if node.count_subscribers(feedback_topic) > 0:
+                break
+            await sleep(node, 0.01, steady_clock())
         for step in range(FEEDBACK_STEPS):
             feedback = NavigateToPose.Feedback()
             feedback.distance_remaining = float(FEEDBACK_STEPS - 1 - step)
