@@ -14,7 +14,9 @@ a different tree is refused while another runs, and so is a goal of the other na
 halts the tree, which cancels the running actions (the controller stops the robot).
 
 Result: on failure, error_code/error_msg come from the first non-zero code among
-``error_code_names`` on the blackboard, with the failing server and its message, e.g.
+``error_code_names`` on the blackboard, with the failing server and its message (UNKNOWN, 9000,
+when none is set: a failed goal never ends with 0; a goal in an empty or unknown frame is refused
+with TF_ERROR, 9002), e.g.
 "'compute_path_to_pose' failed with error code 206 (GOAL_OCCUPIED): ...". Status changes are
 published as nav2_msgs/BehaviorTreeLog on ``behavior_tree_log``; a PoseStamped on ``goal_pose``
 (RViz's "Nav2 Goal") is sent to our own navigate_to_pose (nav_stack/ros/goal_pose_forwarder.py).
@@ -37,6 +39,8 @@ from nav_stack.core.bt import BehaviorTreeFactory, Blackboard, BtError, NodeStat
 from nav_stack.ros.bt_nodes import BtRosContext, SelectorTopics, register_ros_nodes
 from nav_stack.ros.bt_nodes.actions import RECOVERIES_KEY
 from nav_stack.ros.bt_nodes.navigators import (
+    FAILED_TO_LOAD_BEHAVIOR_TREE,
+    UNKNOWN,
     GoalError,
     NavigateThroughPosesNavigator,
     NavigateToPoseNavigator,
@@ -52,8 +56,6 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from ros_tools.runtime.actions import ActionServer
 
-#: Kilted's NavigateToPose FAILED_TO_LOAD_BEHAVIOR_TREE; Jazzy's message names no code for it.
-FAILED_TO_LOAD_BEHAVIOR_TREE = 9001
 FEEDBACK_PERIOD = 0.05  # s (wall) between feedback messages; Nav2 sends one per tick
 
 
@@ -150,9 +152,9 @@ class BtNavigator(NavLifecycleNode):
         session, self._session = self._session, None
         pending, self._pending = self._pending, None
         if session is not None:
-            self._end(session, Outcome.ABORTED, 0, "bt_navigator was deactivated")
+            self._end(session, Outcome.ABORTED, UNKNOWN, "bt_navigator was deactivated")
         if pending is not None:
-            pending[0].finish(Outcome.ABORTED, error_msg="bt_navigator was deactivated")
+            pending[0].finish(Outcome.ABORTED, UNKNOWN, "bt_navigator was deactivated")
 
     def cleanup(self) -> None:
         for server in self._servers:
@@ -220,7 +222,7 @@ class BtNavigator(NavLifecycleNode):
         try:
             navigator.write_goal(goal, board, self.robot)
         except GoalError as error:
-            goal_run.finish(Outcome.ABORTED, 0, f"{navigator.action_name}: {error}")
+            goal_run.finish(Outcome.ABORTED, error.code, f"{navigator.action_name}: {error}")
             return
         try:
             session.tree = self._load(session.tree_file, board)
@@ -245,7 +247,7 @@ class BtNavigator(NavLifecycleNode):
         try:
             navigator.write_goal(goal, session.tree.blackboard, self.robot)
         except GoalError as error:
-            goal_run.finish(Outcome.ABORTED, 0, f"{navigator.action_name}: {error}")
+            goal_run.finish(Outcome.ABORTED, error.code, f"{navigator.action_name}: {error}")
             return
         session.run.finish(Outcome.ABORTED, 0, "preempted by a new goal")
         session.run = goal_run
@@ -304,7 +306,7 @@ class BtNavigator(NavLifecycleNode):
             if code:
                 failure = self.ros.failure(name)
                 return code, failure.describe() if failure else f"{name} = {code}"
-        return 0, "the behavior tree failed"
+        return UNKNOWN, "the behavior tree failed (no server reported an error code)"
 
     # -- output -------------------------------------------------------------------------------------
     def _publish_feedback(self, session: Session) -> None:

@@ -34,8 +34,17 @@ MIN_SPEED_FOR_ETA = 0.01  # m/s
 MIN_DISTANCE_FOR_ETA = 0.1  # m
 
 
+#: Kilted's NavigateToPose result codes, used by both navigators: Jazzy's messages name only NONE,
+#: and a failed goal must never end with 0 (a client could not tell it from a success).
+UNKNOWN, FAILED_TO_LOAD_BEHAVIOR_TREE, TF_ERROR = 9000, 9001, 9002
+
+
 class GoalError(ValueError):
-    """A goal that cannot be navigated (e.g. its pose cannot be expressed in the global frame)."""
+    """A goal that cannot be navigated, with its result ``code`` (TF_ERROR for frame problems)."""
+
+    def __init__(self, message: str, code: int = UNKNOWN) -> None:
+        super().__init__(message)
+        self.code = code
 
 
 @dataclass
@@ -105,9 +114,13 @@ class Navigator:
 
 
 def to_global(pose: PoseStamped, robot: RobotState) -> PoseStamped:
-    """``pose`` expressed in the global frame (an empty frame_id is taken as the global frame)."""
+    """``pose`` expressed in the global frame; GoalError (TF_ERROR) for an empty or unknown frame,
+    as Nav2 refuses them (an empty frame_id is not taken as the global frame)."""
     frame = pose.header.frame_id.lstrip("/")
-    if frame in ("", robot.global_frame):
+    if not frame:
+        raise GoalError(f"the goal's header.frame_id is empty: set it to the frame of the pose "
+                        f"(e.g. '{robot.global_frame}')", TF_ERROR)
+    if frame == robot.global_frame:
         out = PoseStamped()
         out.header.frame_id = robot.global_frame
         out.header.stamp = pose.header.stamp
@@ -116,8 +129,8 @@ def to_global(pose: PoseStamped, robot: RobotState) -> PoseStamped:
     try:
         planar = robot.frames.to_frame(pose, robot.global_frame)
     except FrameError as error:
-        raise GoalError(f"cannot transform the goal from '{frame}' to '{robot.global_frame}': {error}") \
-            from error
+        raise GoalError(f"cannot transform the goal from '{frame}' to '{robot.global_frame}': {error}",
+                        TF_ERROR) from error
     if math.isnan(planar.yaw):
         raise GoalError(f"the goal orientation {pose.pose.orientation} cannot be normalised")
     return pose_stamped(planar.x, planar.y, planar.yaw, robot.global_frame, pose.header.stamp)

@@ -18,6 +18,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.ros.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
+from nav_stack.ros.bt_nodes.navigators import TF_ERROR
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.qos import LATCHED
 from tests.helpers.nav_ros_bt_fakes import nav_goal
@@ -81,6 +82,18 @@ def test_planner_failure_code_and_message_are_surfaced_in_the_result(rig):
     assert "compute_path_to_pose" in result.result.error_msg
     assert "occupied cell" in result.result.error_msg
     assert rig.fake.count("spin") == 0, "no recovery can help an occupied goal"
+
+
+@pytest.mark.parametrize(("frame", "says"), [("", "header.frame_id is empty"),
+                                            ("nowhere", "cannot transform the goal from 'nowhere'")])
+def test_a_goal_in_an_empty_or_unknown_frame_is_refused_with_tf_error(rig, frame, says):
+    client = rig.action_client(NavigateToPose, "navigate_to_pose")
+    result = rig.result(rig.send(client, nav_goal(1.0, 0.5, frame=frame)))
+
+    assert result.status == GoalStatus.STATUS_ABORTED
+    assert result.result.error_code == TF_ERROR, result.result.error_msg
+    assert says in result.result.error_msg
+    assert rig.fake.count("compute_path_to_pose") == 0
 
 
 def test_controller_failures_run_the_recoveries_and_report_the_controller_code(rig):
