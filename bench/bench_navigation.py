@@ -33,6 +33,7 @@ import subprocess
 import sys
 import threading
 import time
+import traceback
 from pathlib import Path
 from typing import Any
 
@@ -102,12 +103,13 @@ class Driver:
         self.node.create_subscription(UInt32, "sim2d/collision_count", self._on_collisions, latched)
         self.node.create_subscription(Clock, "/clock", self._on_clock, 10)
         self.node.create_subscription(Odometry, "ground_truth", self._on_truth, 10)
-        # The C++ events executor keeps up with /clock at 100 Hz of sim time at any real-time factor,
-        # so self.sim_time is current when a result arrives (its done callback reads it there).
-        # In lockstep the simulator waits for this client while a goal request is on its way, so that
-        # DDS latency (wall ms, tenths of a sim second at rtf 10) is not counted as navigation time.
+        # SingleThreadedExecutor: the EventsExecutor spun in this background thread never delivered
+        # /clock or discovered the servers here (a busy core, then "not available" after 60 s; seen
+        # 2026-11-26, cause not found). The result's done callback reads self.sim_time.
+        # In lockstep the simulator waits for this client while a goal request is on its way, so
+        # that DDS latency (wall ms, tenths of a sim second at rtf 10) is not navigation time.
         self.lockstep = LockstepParticipant(self.node, "bench_navigation") if lockstep else None
-        self.executor = make_executor("events")
+        self.executor = make_executor("single")
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self.executor.spin, daemon=True)
         self._thread.start()
@@ -227,9 +229,9 @@ class Driver:
     def close(self) -> None:
         import rclpy
 
+        self.executor.shutdown()  # first: destroying an entity wakes an executor spinning in another thread
         if self.lockstep is not None:
             self.lockstep.destroy()
-        self.executor.shutdown()
         self.node.destroy_node()
         rclpy.try_shutdown()
 
@@ -346,6 +348,9 @@ def main() -> int:
                                f"{note}; median per goal {statistics.median(goal_rtfs):.2f}")
         if not args.no_record:
             bench.save()
+    except BaseException:
+        traceback.print_exc()  # now, before a teardown that could hang hides it
+        raise
     finally:
         if driver is not None:
             driver.close()
