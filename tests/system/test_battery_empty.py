@@ -26,6 +26,7 @@ from rosgraph_msgs.msg import Clock
 
 from nav_stack.ros.conversions import pose_stamped
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
+from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
@@ -53,16 +54,21 @@ def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bri
     node.create_subscription(Clock, "/clock",
                              lambda m: clock.append(m.clock.sec + m.clock.nanosec * 1e-9), 10)
     client = ActionClient(node, NavigateToPose, "navigate_to_pose")
+    # In lockstep, so that the simulator waits while the goal request crosses DDS (a loaded run
+    # took seconds of wall time there, minutes of sim time at rtf max, before this hold).
+    lockstep = LockstepParticipant(node, "battery_empty_client")
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     thread = threading.Thread(target=executor.spin, daemon=True)
     thread.start()
     try:
         wait(client.server_is_ready, 60.0, "navigate_to_pose")
-        wait(lambda: bool(clock), 30.0, "/clock")
+        wait(lambda: bool(clock) and lockstep.reported_ns > 0, 30.0, "/clock and a first lockstep report")
         goal = NavigateToPose.Goal(pose=pose_stamped(-1.0, -0.5, 0.0, "map", node.get_clock().now().to_msg()))
+        copies: list[Any] = []
+        lockstep.hold(lambda: any(future.done() for future, _ in copies), 4.0)
         sent_at = clock[-1]
-        handle = send_until_acknowledged(client, goal, 30.0).result()
+        handle = send_until_acknowledged(client, goal, 30.0, copies=copies).result()
         assert handle.accepted
         result = handle.get_result_async()
         wait(result.done, 120.0, "the navigation result")
@@ -76,5 +82,6 @@ def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bri
         assert any("battery empty" in line for line in empty_battery_stack.lines), "no warning from sim2d"
     finally:
         executor.shutdown()
+        lockstep.destroy()
         node.destroy_node()
         thread.join(timeout=5.0)
