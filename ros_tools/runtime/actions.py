@@ -72,13 +72,14 @@ ACK_RETRY_S = 5.0
 Wait = Callable[[Callable[[], bool], float], bool]
 
 
-def poll(predicate: Callable[[], bool], seconds: float) -> bool:
-    """A :data:`Wait` for a client whose node an executor spins in another thread: poll every 20 ms."""
+def poll(predicate: Callable[[], bool], seconds: float, step: float = 0.02) -> bool:
+    """A :data:`Wait` for a client whose node an executor spins in another thread: check every
+    ``step`` s; True once ``predicate()`` holds, False after ``seconds``."""
     deadline = time.monotonic() + seconds
     while not predicate():
         if time.monotonic() >= deadline:
             return False
-        time.sleep(0.02)
+        time.sleep(step)
     return True
 
 

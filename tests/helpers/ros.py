@@ -20,6 +20,8 @@ from typing import Any
 from rclpy.executors import Executor
 from rclpy.node import Node
 
+from ros_tools.runtime.actions import poll
+
 REPO = Path(__file__).resolve().parents[2]
 
 #: The simulator's real-time factor in whole-stack tests: ``max``, as fast as the slowest lockstep
@@ -36,11 +38,8 @@ def spin_until(
     step: float = 0.02,
 ) -> None:
     """Spin ``executor`` until ``predicate()`` is true; fail after ``timeout`` seconds (wall clock)."""
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
-        executor.spin_once(timeout_sec=step)
+    if not spinning(executor, step)(predicate, timeout):
+        raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
 
 
 def spinning(executor: Executor, step: float = 0.02) -> Callable[[Callable[[], bool], float], bool]:
@@ -61,11 +60,8 @@ def spinning(executor: Executor, step: float = 0.02) -> Callable[[Callable[[], b
 def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condition",
                step: float = 0.02) -> None:
     """Poll ``predicate()`` (without spinning) until true; fail after ``timeout`` seconds."""
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
-        time.sleep(step)
+    if not poll(predicate, timeout, step):
+        raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
 
 
 def connected(endpoints: Iterable[Any]) -> Callable[[], bool]:
