@@ -17,12 +17,12 @@ from nav2_msgs.action import NavigateToPose
 from rclpy.action import ActionClient
 
 from nav_stack.ros.qos import DEFAULT
-from ros_tools.runtime.actions import ACK_RETRY_S, cancel_if_accepted
+from ros_tools.runtime.actions import acknowledged
 from ros_tools.runtime.coroutines import spawn
-from ros_tools.runtime.waiting import first_of, sleep, steady_clock, wait_for
+from ros_tools.runtime.waiting import sleep, steady_clock
 
 SERVER_WAIT_S = 10.0  # s (wall) a pose waits for navigate_to_pose before it is dropped with a warning
-SENDS = 3  # copies of a goal sent (ACK_RETRY_S apart) before it is given up with a warning
+SENDS = 3  # copies of a goal sent (actions.ACK_RETRY_S apart) before it is given up with a warning
 POLL_S = 0.05  # s (wall) between checks for the server
 
 
@@ -44,27 +44,19 @@ class GoalPoseForwarder:
 
     async def _forward(self, msg: PoseStamped, sequence: int) -> None:
         log = self.node.get_logger()
+        wanted = lambda: sequence == self._newest  # noqa: E731 - a newer pose replaces this one
         waited = 0.0
         while not self._client.server_is_ready():
-            if sequence != self._newest:
+            if not wanted():
                 return
             if waited >= SERVER_WAIT_S:
                 log.warn(f"goal_pose dropped: navigate_to_pose not available after {SERVER_WAIT_S:.0f} s")
                 return
             await sleep(self.node, POLL_S, self._clock)
             waited += POLL_S
-        copies: list[Any] = []
-        for _ in range(SENDS):
-            if sequence != self._newest:
-                return
-            copies.append(self._client.send_goal_async(NavigateToPose.Goal(pose=msg)))
-            answered = first_of(*copies)
-            if await wait_for(self.node, answered, ACK_RETRY_S, self._clock):
-                for late in copies:  # one acknowledged later would preempt the first: cancel it then
-                    if late is not answered.result():
-                        late.add_done_callback(cancel_if_accepted)
-                return
-        log.warn(f"goal_pose dropped: navigate_to_pose acknowledged none of {SENDS} copies")
+        if await acknowledged(self.node, self._client, NavigateToPose.Goal(pose=msg), SENDS, wanted,
+                              self._clock) is None and wanted():
+            log.warn(f"goal_pose dropped: navigate_to_pose acknowledged none of {SENDS} copies")
 
     def destroy(self) -> None:
         self.node.destroy_subscription(self._sub)

@@ -25,6 +25,7 @@ from rclpy.action import ActionServer as RclpyActionServer
 from rclpy.task import Future
 
 from ros_tools.runtime.coroutines import spawn
+from ros_tools.runtime.waiting import first_of, steady_clock, wait_for
 
 
 class ActionServer(RclpyActionServer):
@@ -114,6 +115,28 @@ def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait =
             return first
     raise TimeoutError(f"'{client._action_name}' did not acknowledge the goal within {timeout:.0f} s "
                        f"({len(copies)} copies sent)")
+
+
+async def acknowledged(node: Any, client: Any, goal: Any, sends: int,
+                       wanted: Callable[[], bool] = lambda: True, clock: Any = None) -> Future | None:
+    """Coroutine twin of :func:`send_until_acknowledged`, for a node's own executor (await it in a
+    :func:`.coroutines.spawn` coroutine; nothing blocks): send ``goal``, and again every ACK_RETRY_S s
+    (``clock``: a steady clock unless given), at most ``sends`` copies. The acknowledged copy's
+    ``send_goal_async`` future; None when no copy was acknowledged or ``wanted()`` turned False.
+    Copies acknowledged later, or after the caller stopped wanting the goal, are canceled if accepted.
+    """
+    clock = steady_clock() if clock is None else clock
+    copies: list[Future] = []
+    answer: Future | None = None
+    while answer is None and len(copies) < sends and wanted():
+        copies.append(client.send_goal_async(goal))
+        answered = first_of(*copies)
+        if await wait_for(node, answered, ACK_RETRY_S, clock):
+            answer = answered.result() if wanted() else None
+    for copy in copies:
+        if copy is not answer:
+            copy.add_done_callback(cancel_if_accepted)
+    return answer
 
 
 def cancel_if_accepted(future: Future) -> None:

@@ -3,6 +3,11 @@
 The tree polls ``RosNavGoal.outcome()`` on each tick; the goal response and the result arrive on
 the executor and only set fields. A cancel asked for before the server accepted the goal is sent
 as soon as it is accepted, so a halted GoToPose never leaves a goal behind.
+
+A request (or its acknowledgement) can be lost while DDS completes a match, under load or after
+the stack restarts (ros_tools.runtime.actions.send_until_acknowledged says how). A coroutine sends
+the goal again every few seconds until the server answers; before, a lost request left the mission
+"going to location1" until the tree's own timeout.
 """
 
 from __future__ import annotations
@@ -18,6 +23,11 @@ from rclpy.node import Node
 from nav_stack.ros.autonomy.locations import Location
 from nav_stack.ros.autonomy.seed_nodes import NavOutcome
 from nav_stack.ros.conversions import pose_stamped
+from ros_tools.runtime.actions import ACK_RETRY_S, acknowledged
+from ros_tools.runtime.coroutines import spawn
+
+#: copies of a goal sent (ACK_RETRY_S s apart) before the goal is given up as aborted.
+SENDS = 6
 
 _STATUS = {
     GoalStatus.STATUS_SUCCEEDED: NavOutcome.SUCCEEDED,
@@ -55,6 +65,10 @@ class RosNavGoal:
         with self._lock:
             if self._outcome is None:
                 self._outcome, self._detail = outcome, detail
+
+    def _canceled(self) -> bool:
+        with self._lock:
+            return self._cancel_requested
 
     def _on_goal_response(self, future: Any) -> None:
         handle = future.result()
@@ -97,9 +111,19 @@ class RosNavigator:
         goal = RosNavGoal()
         stamp = self.node.get_clock().now().to_msg()
         pose = pose_stamped(location.x, location.y, location.theta, self.frame, stamp)
-        request = NavigateToPose.Goal(pose=pose)
-        self._client.send_goal_async(request).add_done_callback(goal._on_goal_response)
+        spawn(self.node, self._send(goal, NavigateToPose.Goal(pose=pose)))
         return goal
+
+    async def _send(self, goal: RosNavGoal, request: NavigateToPose.Goal) -> None:
+        answer = await acknowledged(self.node, self._client, request, SENDS,
+                                    wanted=lambda: not goal._canceled())
+        if answer is not None:
+            goal._on_goal_response(answer)
+        elif goal._canceled():
+            goal._finish(NavOutcome.CANCELED, "canceled before the server acknowledged the goal")
+        else:
+            goal._finish(NavOutcome.ABORTED, f"'{self.action_name}' acknowledged none of {SENDS} "
+                                             f"copies of the goal ({SENDS * ACK_RETRY_S:.0f} s)")
 
     def destroy(self) -> None:
         """Destroy the action client unless it is gone already (the runner's teardown destroys every
