@@ -29,8 +29,9 @@ def _key(entry: SmaccTransitionLogEntry) -> tuple[str, str, str]:
 
 
 def test_smacc_run_and_smacc_key_drive_the_machine_across_processes(ros_context) -> None:  # type: ignore[no-untyped-def]
-    # No bonds and a real-time clock: only key N can leave StAllSensorsGo within its 15 s timer.
-    fake = FakeNav2(ros_context, bond_nodes=(), clock_rate=1.0).start()
+    # No bonds and a clock that stands still: StAllSensorsGo's 15 s (sim) timer never fires, so only
+    # key N can leave it, however long the key's process takes to start and discover the machine.
+    fake = FakeNav2(ros_context, bond_nodes=(), clock_rate=0.0).start()
     probe = rclpy.create_node("run_probe", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(probe)
