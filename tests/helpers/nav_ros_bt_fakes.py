@@ -57,7 +57,8 @@ def straight_path(x0: float, y0: float, x1: float, y1: float, frame: str = "map"
 class FakeNav2(Node):
     """Scripted planner, controller and behaviour servers plus a static robot pose in TF."""
 
-    def __init__(self, robot_xy: tuple[float, float] = (0.0, 0.0), **kwargs: Any) -> None:
+    def __init__(self, robot_xy: tuple[float, float] | None = (0.0, 0.0), **kwargs: Any) -> None:
+        """``robot_xy``: where map -> base_link puts the robot (m); None: no robot pose at all."""
         super().__init__("fake_nav2", **kwargs)
         self.robot_xy = robot_xy
         self.occupied: set[tuple[float, float]] = set()
@@ -83,9 +84,10 @@ class FakeNav2(Node):
             name = f"{costmap}/clear_entirely_{costmap}"
             self.create_service(ClearEntireCostmap, name, self._clear_handler(name), callback_group=group)
         self._static = StaticTransformBroadcaster(self)
-        x, y = robot_xy
-        self._static.send([transform_to_msg(Transform(x, y, 0.0, 0.0, 0.0, 0.0, 1.0), "map", "base_link",
-                                            self.get_clock().now().to_msg())])
+        if robot_xy is not None:
+            x, y = robot_xy
+            self._static.send([transform_to_msg(Transform(x, y, 0.0, 0.0, 0.0, 0.0, 1.0), "map",
+                                                "base_link", self.get_clock().now().to_msg())])
 
     # -- bookkeeping ------------------------------------------------------------------------------
     def _server(self, action_type: Any, name: str, execute: Any, group: Any) -> ActionServer:

@@ -93,7 +93,19 @@ class Navigator:
         return goal.behavior_tree or self.default_tree
 
     def write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
-        """Put the goal's poses on the blackboard (in the global frame); GoalError when impossible."""
+        """Put the goal's poses on the blackboard (in the global frame); GoalError when impossible.
+
+        As Nav2 Jazzy's navigators, a goal is refused (TF_ERROR) while the robot's own pose is not
+        known in the global frame: before localization publishes map -> odom, a plan would start
+        from nowhere and the controller would fail later with a less useful message.
+        """
+        try:
+            robot.frames.robot_pose(robot.global_frame)
+        except FrameError as error:
+            raise GoalError(f"Initial robot pose is not available: {error}", TF_ERROR) from error
+        self._write_goal(goal, board, robot)
+
+    def _write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
         raise NotImplementedError
 
     def feedback(self, board: Blackboard, robot: RobotState, started: float, now: float, stamp: Any) -> Any:
@@ -148,7 +160,7 @@ class NavigateToPoseNavigator(Navigator):
         super().__init__(default_tree, path_key)
         self.goal_key = goal_key
 
-    def write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
+    def _write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
         board.set(self.goal_key, to_global(goal.pose, robot))
 
 
@@ -164,7 +176,7 @@ class NavigateThroughPosesNavigator(Navigator):
         super().__init__(default_tree, path_key)
         self.goals_key = goals_key
 
-    def write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
+    def _write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:
         if not goal.poses:
             raise GoalError("the goal has no poses")
         board.set(self.goals_key, [to_global(pose, robot) for pose in goal.poses])

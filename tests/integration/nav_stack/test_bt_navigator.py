@@ -96,6 +96,22 @@ def test_a_goal_in_an_empty_or_unknown_frame_is_refused_with_tf_error(rig, frame
     assert rig.fake.count("compute_path_to_pose") == 0
 
 
+def test_a_goal_before_the_robot_pose_is_known_is_refused_with_tf_error(ros_context):
+    rig = start_rig(ros_context, lambda context: BtNavigator(context=context,
+                                                             parameter_overrides=NAVIGATOR_OVERRIDES),
+                    robot_xy=None)
+    try:
+        client = rig.action_client(NavigateToPose, "navigate_to_pose")
+        result = rig.result(rig.send(client, nav_goal(1.0, 0.5)))
+    finally:
+        stop_rig(rig)
+
+    assert result.status == GoalStatus.STATUS_ABORTED
+    assert result.result.error_code == TF_ERROR, result.result.error_msg
+    assert "Initial robot pose is not available" in result.result.error_msg
+    assert rig.fake.count("compute_path_to_pose") == 0
+
+
 def test_controller_failures_run_the_recoveries_and_report_the_controller_code(rig):
     rig.fake.follow_steps = 1
     rig.fake.follow_codes = [105] * 20
