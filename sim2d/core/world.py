@@ -4,6 +4,7 @@ World YAML schema (all lengths m, angles rad, map frame)::
 
     name: turtlebot3_world
     free_region: [[x, y], ...]          # optional convex CCW polygon known free (map generation)
+    spawns: [[x, y, yaw], ...]          # optional free poses; the first is the world's default
     obstacles:
       - {type: circle, center: [x, y], radius: r}
       - {type: polygon, vertices: [[x, y], ...]}                 # convex, counter-clockwise
@@ -12,7 +13,10 @@ World YAML schema (all lengths m, angles rad, map frame)::
       - {type: ring, vertices: [[x, y], ...], thickness: t}      # wall outside a convex CCW polygon
 
 A map_server YAML (recognised by its ``image`` key) loads as a world whose occupied cells are the
-obstacles. Errors name the file and the field, e.g. ``worlds/x.yaml: obstacles[2].radius: ...``.
+obstacles; it has no free_region and no spawns. Errors name the file and the field, e.g.
+``worlds/x.yaml: obstacles[2].radius: ...``; a spawn inside an obstacle is such an error too.
+``check_spawn`` refuses a robot pose that overlaps an obstacle, so a bad ``--x/--y`` fails at startup
+instead of leaving the robot stuck inside a wall.
 """
 
 from __future__ import annotations
@@ -30,16 +34,22 @@ from sim2d.core.grid_shapes import map_to_geometry
 from sim2d.core.map_io import load_map
 
 WORLDS_DIR = Path(__file__).resolve().parents[1] / "worlds"
+Spawn = tuple[float, float, float]
+"""A spawn pose (x, y, yaw) in the map frame (m, m, rad)."""
 
 
 @dataclass(frozen=True)
 class World:
-    """A loaded world: its obstacles, the region known to be free, and the file it came from."""
+    """A loaded world: its obstacles, the region known to be free, the file it came from, its spawns.
+
+    ``spawns`` lists poses known to be free (the first is the default); empty for map worlds.
+    """
 
     name: str
     geometry: StaticGeometry
     free_region: FloatArray | None
     source: Path
+    spawns: tuple[Spawn, ...] = ()
 
 
 def resolve_world(spec: str | Path) -> Path:
@@ -65,6 +75,15 @@ def load_world(spec: str | Path) -> World:
         raise ValueError(f"{path}: cannot read world YAML ({exc})") from exc
     if isinstance(data, dict) and "image" in data:
         return World(path.stem, map_to_geometry(load_map(path)), None, path)
+    return parse_world(data, path)
+
+
+def parse_world(data: object, path: Path) -> World:
+    """A world from the parsed mapping of a world YAML; ``path`` only names the source in errors.
+
+    Why separate from ``load_world``: generated worlds (sim2d.core.office_world) are checked by the
+    same rules before they are written to a file.
+    """
     if not isinstance(data, dict) or not isinstance(data.get("obstacles"), list):
         raise ValueError(f"{path}: obstacles: missing or not a list of obstacles")
     out = _Shapes()
@@ -79,7 +98,51 @@ def load_world(spec: str | Path) -> World:
     geometry = StaticGeometry(circles=np.array(out.circles, dtype=np.float64).reshape(-1, 3),
                               boxes=np.array(out.boxes, dtype=np.float64).reshape(-1, 4),
                               polygons=tuple(out.polygons))
-    return World(str(data.get("name", path.stem)), geometry, free, path)
+    return World(str(data.get("name", path.stem)), geometry, free, path, _spawns(data, path, geometry))
+
+
+def check_spawn(world: World, x: float, y: float, radius: float) -> None:
+    """Refuse a robot spawn at (x, y) (m, map frame) whose disc of ``radius`` (m) touches an obstacle.
+
+    ``radius`` is the robot's footprint circumradius, so any yaw is safe. Why refuse: the simulator
+    never pushes the robot out of an obstacle, so a robot spawned inside a wall is stuck there and
+    every later failure (no motion, lost localization) hides the real cause.
+
+    Raises:
+        ValueError: one line naming the world file, the pose, the clearance and free alternatives.
+    """
+    point = np.array([[x, y]], dtype=np.float64)
+    inside = bool(world.geometry.contains(point)[0])
+    clearance = float(world.geometry.boundary_distance(point)[0])
+    if not inside and clearance >= radius:
+        return
+    problem = (f"is inside an obstacle ({clearance:.2f} m from its edge)" if inside else
+               f"is too close to an obstacle ({clearance:.2f} m clearance, the robot needs {radius:.2f} m)")
+    spawns = ", ".join(f"({sx:g}, {sy:g}, {syaw:g})" for sx, sy, syaw in world.spawns)
+    hint = f"e.g. the world's spawns: {spawns}" if spawns else "the world lists no spawns"
+    raise ValueError(f"spawn ({x:g}, {y:g}) in {world.source} {problem}; pick a free pose, {hint}")
+
+
+def _is_number(value: object) -> bool:
+    """A finite int or float from YAML (not a bool)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and bool(np.isfinite(value))
+
+
+def _spawns(data: dict[str, Any], path: Path, geometry: StaticGeometry) -> tuple[Spawn, ...]:
+    """The ``spawns`` list: each [x, y, yaw] (m, m, rad), none inside an obstacle."""
+    value = data.get("spawns", [])
+    if not isinstance(value, list):
+        raise ValueError(f"{path}: spawns: must be a list of [x, y, yaw], got {value!r}")
+    spawns: list[Spawn] = []
+    for i, item in enumerate(value):
+        if not (isinstance(item, list) and len(item) == 3 and all(_is_number(v) for v in item)):
+            raise ValueError(f"{path}: spawns[{i}]: must be [x, y, yaw] (m, m, rad), got {item!r}")
+        spawns.append((float(item[0]), float(item[1]), float(item[2])))
+    inside = geometry.contains(np.array([s[:2] for s in spawns], dtype=np.float64).reshape(-1, 2))
+    if inside.any():
+        i = int(np.argmax(inside))
+        raise ValueError(f"{path}: spawns[{i}]: {value[i]} is inside an obstacle")
+    return tuple(spawns)
 
 
 @dataclass
@@ -104,7 +167,7 @@ class _Fields:
 
     def number(self, key: str, positive: bool = False, default: float | None = None) -> float:
         value = self.item.get(key, default) if default is not None else self._get(key)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        if not _is_number(value):
             raise ValueError(f"{self.where}.{key}: must be a number, got {value!r}")
         if positive and value <= 0:
             raise ValueError(f"{self.where}.{key}: must be > 0, got {value!r}")
@@ -112,8 +175,7 @@ class _Fields:
 
     def point(self, key: str) -> tuple[float, float]:
         value = self._get(key)
-        if not (isinstance(value, list) and len(value) == 2
-                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        if not (isinstance(value, list) and len(value) == 2 and all(_is_number(v) for v in value)):
             raise ValueError(f"{self.where}.{key}: must be [x, y], got {value!r}")
         return float(value[0]), float(value[1])
 

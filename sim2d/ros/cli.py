@@ -7,14 +7,15 @@ the first step until those roles have reported. ``--rtf`` still caps the speed o
 Parameters come from config/sim2d.yaml (Nav2 layout ``sim2d: ros__parameters:``; ``--params-file``
 picks another), then the flags override them; anything after ``--ros-args`` goes to rclpy (remaps,
 ``-p name:=value``). The whole configuration, including the world file, is validated before ROS
-starts: a bad flag, parameter file or world gives one line ``sim2d: error: <file>: <field>: ...``
-and exit code 2.
+starts: a bad flag, parameter file or world, or a spawn pose inside (or within the robot's
+circumradius of) an obstacle, gives one line ``sim2d: error: <file>: <field>: ...`` and exit code 2.
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
+import math
 import os
 import sys
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ from typing import Any, NoReturn
 import yaml
 
 from ros_tools.runtime.executor import add_executor_argument, executor_kind
-from sim2d.ros.config import ParamValue, build_config, coerce, defaults, load_params_file
+from sim2d.ros.config import ParamValue, SimConfig, build_config, coerce, defaults, load_params_file
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
 EXIT_USAGE = 2
@@ -122,14 +123,23 @@ def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:
     return values
 
 
+def _check_world_and_spawn(config: SimConfig) -> None:
+    """Load the world and refuse a spawn whose footprint, at any yaw, would touch an obstacle."""
+    from sim2d.core.robot import robot_model
+    from sim2d.core.world import check_spawn, load_world
+
+    world = load_world(config.node.world)
+    corners = robot_model(config.node.robot).footprint()
+    pose = config.sim.initial_pose
+    check_spawn(world, pose.x, pose.y, max(math.hypot(x, y) for x, y in corners))
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the simulator until interrupted; 2 on a configuration error."""
     try:
         command = parse_command_line(sys.argv[1:] if argv is None else argv)
         executor_kind(command.executor)                  # a bad $NAVSUITE_EXECUTOR fails here too
-        from sim2d.core.world import load_world
-
-        load_world(build_config(command.values).node.world)      # fail before ROS starts
+        _check_world_and_spawn(build_config(command.values))  # fail before ROS starts
     except ValueError as exc:
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
