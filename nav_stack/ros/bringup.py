@@ -1,9 +1,9 @@
 """nav-bringup: the simulator and the whole Nav2-style stack in one command (instead of the seeds' terminals).
 
-    nav-bringup [--world turtlebot3_world] [--robot waffle] [--map maps/turtlebot3_world.yaml]
+    nav-bringup [--world turtlebot3_world] [--robot waffle] [--map maps/<world>.yaml]
                 [--params config/nav2_params.yaml] [--rtf 1.0] [--no-sim] [--isolated]
                 [--no-lockstep] [--executor events|single]
-                [--no-initial-pose] [--x -2.0 --y -0.5 --yaw 0.0]
+                [--no-initial-pose] [--x X --y Y --yaw YAW (default: the world's first spawn)]
 
 Processes, started in order by ros_tools.launch.Launcher, each waiting for the previous one's
 readiness line (all with use_sim_time true; sim2d publishes /clock):
@@ -134,17 +134,20 @@ def component_role(name: str) -> str:
 # ------------------------------------------------------------------ launch
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="nav-bringup", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--world", default="turtlebot3_world", help="sim2d world name or YAML")
+    parser.add_argument("--world", default=None,
+                        help="sim2d world name or YAML (default turtlebot3_world); also sets the default "
+                             "--map (maps/<world>.yaml) and spawn (the world's first spawn)")
     parser.add_argument("--robot", default="waffle", choices=("waffle", "burger"))
-    parser.add_argument("--map", default=None, help="map_server YAML (default: from --params)")
+    parser.add_argument("--map", default=None,
+                        help="map_server YAML (default: the --world's map, else from --params)")
     parser.add_argument("--params", default=str(DEFAULT_PARAMS), help="Nav2-style parameter file")
     parser.add_argument("--sim-params", default=None,
                         help="sim2d parameter file applied over config/sim2d.yaml (e.g. "
                              "config/sim2d_battery_patrol.yaml)")
     parser.add_argument("--rtf", default="1.0", help="sim real-time factor ('max' = fastest)")
-    parser.add_argument("--x", type=float, default=-2.0, help="spawn and initial pose x (m)")
-    parser.add_argument("--y", type=float, default=-0.5, help="spawn and initial pose y (m)")
-    parser.add_argument("--yaw", type=float, default=0.0, help="spawn and initial pose yaw (rad)")
+    parser.add_argument("--x", type=float, default=None, help="spawn and initial pose x (m)")
+    parser.add_argument("--y", type=float, default=None, help="spawn and initial pose y (m)")
+    parser.add_argument("--yaw", type=float, default=None, help="spawn and initial pose yaw (rad)")
     parser.add_argument("--no-sim", action="store_true", help="only the stack (a sim runs elsewhere)")
     parser.add_argument("--slam", action="store_true",
                         help="map with SLAM (slam + map_saver) instead of map_server + AMCL")
@@ -162,6 +165,28 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--headless", action="store_true", default=True, help="no GUI (the only mode)")
     parser.add_argument("--ready-timeout", type=float, default=120.0, help="s (wall) each process may take")
     return parser
+
+
+def _apply_world_defaults(args: argparse.Namespace) -> None:
+    """Fill --world, --map and the spawn the user left out from the world (nav_stack.ros.world_defaults)."""
+    from nav_stack.ros.world_defaults import world_defaults
+
+    chosen, args.world = args.world is not None, args.world or "turtlebot3_world"
+    defaults = world_defaults(args.world)
+    if chosen and args.map is None and not args.slam and defaults.map_yaml is not None:
+        args.map = str(defaults.map_yaml)
+    for name, value in zip(("x", "y", "yaw"), defaults.spawn, strict=True):
+        if getattr(args, name) is None:
+            setattr(args, name, value)
+
+
+def parse_args(argv: Sequence[str]) -> argparse.Namespace:
+    """The launch options: parsed, checked (exit 2 with a message) and completed by the world's defaults."""
+    parser = _parser()
+    args = parser.parse_args(list(argv))
+    _validate(args, parser)
+    _apply_world_defaults(args)
+    return args
 
 
 def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
@@ -279,10 +304,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
         return run_component(opts.name, opts.params, opts.map, opts.executor, opts.map_from_slam)
-    parser = _parser()
-    args = parser.parse_args(argv)
-    _validate(args, parser)
-    return launch(args)
+    return launch(parse_args(argv))
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ from tests.helpers.nav_ros_bt_stack import READY, Bringup, child_pids, cmdline, 
 
 
 def _specs(*argv: str) -> list:
-    return bringup.process_specs(bringup._parser().parse_args(list(argv)))
+    return bringup.process_specs(bringup.parse_args(argv))
 
 
 def test_default_launch_is_one_nav2_process_in_lockstep_with_the_sim():
@@ -41,6 +41,18 @@ def test_slam_mode_runs_slam_and_map_saver_instead_of_map_server_and_amcl():
     specs = _specs("--slam", "--x", "-2.0", "--y", "-0.5")
     assert [s.name for s in specs] == ["sim2d", "slam", "map_saver", "lifecycle_manager_slam", "navigation"]
     assert "map_start_pose:=[-2.0, -0.5, 0.0]" in specs[1].cmd
+
+
+def test_a_world_brings_its_map_and_spawn_unless_given():
+    house = _specs("--world", "turtlebot3_house")
+    sim, nav2, initial_pose = house[0].cmd, house[2].cmd, house[1].cmd
+    assert sim[sim.index("--x") + 1 :][:5:2] == ["-2.0", "1.0", "0.0"]
+    assert nav2[nav2.index("--map") + 1].endswith("maps/turtlebot3_house.yaml")
+    assert "x:=-2.0" in initial_pose and "y:=1.0" in initial_pose
+    given = _specs("--world", "turtlebot3_house", "--x", "-3.0", "--map", "maps/turtlebot3_world.yaml")
+    assert given[0].cmd[given[0].cmd.index("--x") + 1] == "-3.0"
+    assert given[2].cmd[given[2].cmd.index("--map") + 1].endswith("maps/turtlebot3_world.yaml")
+    assert "--map" not in _specs()[2].cmd  # no --world: the parameter file's map
 
 
 def test_no_sim_variants():
