@@ -47,6 +47,7 @@ from nav_stack.ros.bt_nodes.navigators import (
     Navigator,
     RobotState,
 )
+from nav_stack.ros.clock_watch import ClockWatch
 from nav_stack.ros.frames import Frames
 from nav_stack.ros.goal_pose_forwarder import GoalPoseForwarder
 from nav_stack.ros.goal_runs import GoalRun, Outcome
@@ -143,9 +144,11 @@ class BtNavigator(NavLifecycleNode):
         # On the node clock: under use_sim_time the tree ticks every bt_loop_duration ms of sim time,
         # so a faster-than-real-time run ticks it as often per simulated second as a real-time one.
         self._timer = self.create_timer(self.params.bt_loop_duration / 1000.0, self._tick)
+        self._clock_watch = ClockWatch(self, lambda: self._session is not None, "navigation")
 
     def deactivate(self) -> None:
         self._active = False
+        self._clock_watch.destroy()
         if self._timer is not None:
             self.destroy_timer(self._timer)
             self._timer = None
