@@ -46,6 +46,7 @@ from nav_stack.ros.bt_nodes.navigators import (
     NavigateToPoseNavigator,
     Navigator,
     RobotState,
+    has_robot_pose,
 )
 from nav_stack.ros.clock_watch import ClockWatch
 from nav_stack.ros.frames import Frames
@@ -57,6 +58,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from ros_tools.runtime.actions import ActionServer
 
+ROBOT_POSE_WAIT_S = 2.0  # s (node clock) a new goal waits for the robot pose before TF_ERROR
 FEEDBACK_PERIOD = 0.05  # s (wall) between feedback messages; Nav2 sends one per tick
 
 
@@ -109,6 +111,7 @@ class BtNavigator(NavLifecycleNode):
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._wall = Clock(clock_type=ClockType.SYSTEM_TIME)  # BT event stamps, as Nav2's logger
         self._timer: Any = None
+        self._pose_wait_since: float | None = None  # s (node clock) a new goal began waiting for the pose
         self.navigators: list[Navigator] = []
 
     # -- lifecycle ---------------------------------------------------------------------------------
@@ -258,7 +261,29 @@ class BtNavigator(NavLifecycleNode):
         session.tree.blackboard.set(RECOVERIES_KEY, 0)
         self.get_logger().info(f"{navigator.action_name}: goal preempted by a new goal")
 
+    def _robot_pose_awaited(self) -> bool:
+        """True while a new goal should wait for the robot pose instead of being refused.
+
+        Nav2 refuses a goal at once when the robot pose is unknown (TF_ERROR). Here the goal waits
+        up to ROBOT_POSE_WAIT_S of node time first: localization publishes map -> odom only after
+        its first filter update (SLAM after its first scan), so a goal sent the moment the stack
+        reports ready would be refused depending on how fast the messages crossed. Past the wait,
+        Navigator.write_goal refuses it as Nav2 does.
+        """
+        if has_robot_pose(self.robot):
+            self._pose_wait_since = None
+            return False
+        now = self._now()
+        if self._pose_wait_since is None:
+            self._pose_wait_since = now
+        if now - self._pose_wait_since < ROBOT_POSE_WAIT_S:
+            return True
+        self._pose_wait_since = None
+        return False
+
     def _tick(self) -> None:
+        if self._session is None and self._pending is not None and self._robot_pose_awaited():
+            return
         pending, self._pending = self._pending, None
         if pending is not None:
             if self._session is None:

@@ -56,6 +56,15 @@ class RobotState:
     speed: float = 0.0
 
 
+def has_robot_pose(robot: RobotState) -> bool:
+    """Whether TF knows the robot base in the global frame now."""
+    try:
+        robot.frames.robot_pose(robot.global_frame)
+    except FrameError:
+        return False
+    return True
+
+
 class PathProgress:
     """Remaining path length (m), caching the cumulative lengths of the last path seen."""
 

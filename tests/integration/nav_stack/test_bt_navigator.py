@@ -18,8 +18,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.ros.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
-from nav_stack.ros.bt_nodes.navigators import TF_ERROR
-from nav_stack.ros.frames import FrameError
+from nav_stack.ros.bt_nodes.navigators import TF_ERROR, has_robot_pose
 from nav_stack.ros.qos import LATCHED
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_rig import NAVIGATOR_OVERRIDES, Rig, start_rig, stop_rig
@@ -41,11 +40,7 @@ def rig(ros_context) -> Iterator[Rig]:
 
 
 def _has_robot_pose(node: BtNavigator) -> bool:
-    try:
-        node.robot.frames.robot_pose(node.robot.global_frame)
-    except FrameError:
-        return False
-    return True
+    return has_robot_pose(node.robot)
 
 
 def test_navigate_to_pose_plans_follows_and_succeeds_with_feedback_and_bt_log(rig):
