@@ -1,7 +1,8 @@
 """nav-bringup: the simulator and the whole Nav2-style stack in one command (instead of the seeds' terminals).
 
-    nav-bringup [--world turtlebot3_world] [--robot waffle] [--map maps/<world>.yaml]
-                [--params config/nav2_params.yaml] [--rtf 1.0] [--no-sim] [--isolated]
+    nav-bringup [--world turtlebot3_world] [--robot waffle|burger|tb4] [--map maps/<world>.yaml]
+                [--params (the robot's: config/nav2_params.yaml or nav2_params_tb4.yaml)] [--rtf 1.0]
+                [--no-sim] [--isolated]
                 [--no-lockstep] [--executor events|single]
                 [--no-initial-pose] [--x X --y Y --yaw YAW (default: the world's first spawn)]
 
@@ -37,10 +38,11 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from nav_stack.ros.robot_params import ROBOTS, params_for_robot
 from ros_tools.runtime.executor import add_executor_argument
 
 REPO = Path(__file__).resolve().parents[2]
-DEFAULT_PARAMS = REPO / "config" / "nav2_params.yaml"
+DEFAULT_PARAMS = params_for_robot("waffle")
 READY_LINE = "Nav2 is ready"
 COMPONENT_READY = "bringup: component {name} is active"
 COMPONENTS = ("localization", "navigation", "all")
@@ -137,10 +139,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--world", default=None,
                         help="sim2d world name or YAML (default turtlebot3_world); also sets the default "
                              "--map (maps/<world>.yaml) and spawn (the world's first spawn)")
-    parser.add_argument("--robot", default="waffle", choices=("waffle", "burger"))
+    parser.add_argument("--robot", default="waffle", choices=ROBOTS,
+                        help="the simulated robot; also picks the default --params")
     parser.add_argument("--map", default=None,
                         help="map_server YAML (default: the --world's map, else from --params)")
-    parser.add_argument("--params", default=str(DEFAULT_PARAMS), help="Nav2-style parameter file")
+    parser.add_argument("--params", default=None,
+                        help="Nav2-style parameter file (default: the --robot's, nav_stack.ros.robot_params)")
     parser.add_argument("--sim-params", default=None,
                         help="sim2d parameter file applied over config/sim2d.yaml (e.g. "
                              "config/sim2d_battery_patrol.yaml)")
@@ -184,6 +188,7 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     """The launch options: parsed, checked (exit 2 with a message) and completed by the world's defaults."""
     parser = _parser()
     args = parser.parse_args(list(argv))
+    args.params = args.params or str(params_for_robot(args.robot))
     _validate(args, parser)
     _apply_world_defaults(args)
     return args

@@ -2,7 +2,7 @@
 
 Keys (turtlebot3_teleop's):  w / x  linear velocity +/- 0.01 m/s,  a / d  angular velocity +/- 0.1 rad/s,
 s or space  stop,  q or Ctrl-C  quit. Targets are clamped to the model's limits (waffle 0.26 m/s,
-1.82 rad/s; burger 0.22 m/s, 2.84 rad/s). The current command is re-published every
+1.82 rad/s; burger 0.22 m/s, 2.84 rad/s; tb4 0.306 m/s, 1.90 rad/s). The current command is re-published every
 ``--period`` (0.1 s) so the simulator's cmd_vel watchdog (0.5 s) never brakes a robot being driven.
 
 Interactive mode puts the terminal in raw mode (restored on exit). ``--keys wwwad`` replays keys
@@ -27,7 +27,8 @@ from ros_tools.runtime.executor import add_executor_argument
 
 LINEAR_STEP = 0.01  # m/s per key press (turtlebot3_teleop LIN_VEL_STEP_SIZE)
 ANGULAR_STEP = 0.1  # rad/s per key press (ANG_VEL_STEP_SIZE)
-LIMITS = {"waffle": (0.26, 1.82), "waffle_pi": (0.26, 1.82), "burger": (0.22, 2.84)}  # m/s, rad/s
+# m/s, rad/s: ROBOTIS' TurtleBot3 specs; tb4: the Create 3's safe-mode speed and the TB4 manual's turn rate
+LIMITS = {"waffle": (0.26, 1.82), "waffle_pi": (0.26, 1.82), "burger": (0.22, 2.84), "tb4": (0.306, 1.90)}
 QUIT_KEYS = ("q", "\x03")
 SUBSCRIBER_WAIT = 5.0  # wall s --keys waits for a cmd_vel subscriber before replaying
 HELP = """Control your TurtleBot3!
@@ -90,7 +91,8 @@ def read_key(timeout: float) -> str:
 def parse_args(argv: list[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="nav-teleop", description=HELP,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--model", choices=sorted(LIMITS), default="waffle", help="speed limits of this TB3")
+    parser.add_argument("--model", choices=sorted(LIMITS), default="waffle",
+                        help="speed limits of this TurtleBot")
     parser.add_argument("--keys", help="replay these keys (one per period), stop, and exit")
     parser.add_argument("--period", type=float, default=0.1, help="publish period (s, wall clock)")
     add_executor_argument(parser)

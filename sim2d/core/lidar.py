@@ -1,8 +1,8 @@
-"""A planar lidar like the TurtleBot3 LDS-01, ray cast with numpy against the static geometry.
+"""A planar 360° lidar (the TurtleBot3's LDS-01 or the TurtleBot4's RPLIDAR A1), ray cast with numpy.
 
-Defaults (reference/nav2.md §6, ROBOTIS gazebo model): 360 beams over 360° starting at 0 rad,
-0.12–3.5 m, 5 Hz, Gaussian range noise σ = 0.01 m. Output follows REP 117: +inf for no return
-within range_max (also for a dropped beam), -inf for a return closer than range_min.
+Each robot model carries its sensor's figures (LDS_01, RPLIDAR_A1 below); LidarParams' defaults are
+the LDS-01's. Output follows REP 117: +inf for no return within range_max (also for a dropped
+beam), -inf for a return closer than range_min.
 
 Why numpy: every beam is intersected with every nearby segment and circle at once, so a scan is
 a handful of array operations, never a Python loop over beams or cells.
@@ -59,6 +59,19 @@ class LidarParams:
     def angle_max(self) -> float:
         """Angle of the last beam (rad), as LaserScan.angle_max defines it."""
         return self.angle_min + (self.beams - 1) * self.angle_increment
+
+
+#: TurtleBot3 LDS-01 (reference/nav2.md §6, ROBOTIS gazebo model): 360 beams over 360° from 0 rad,
+#: 0.12–3.5 m, 5 Hz, Gaussian range noise σ = 0.01 m.
+LDS_01 = LidarParams()
+
+#: TurtleBot4 RPLIDAR A1M8. Slamtec A1 datasheet: 0.15–12 m, 360 samples per turn (1°) at its typical
+#: 5.5 Hz scan rate (Nav2's minimal TB4 sim runs its gz lidar at 10 Hz, 0.164–20 m; the real sensor
+#: is taken here). Beam 0 at 0 rad of the sensor frame, as that sim's rplidar (0 to 2π). Range noise
+#: σ = 0.01 m is an assumption: the datasheet gives a resolution (< 0.5 mm under 1.5 m, < 1 % of the
+#: distance), not a noise figure.
+RPLIDAR_A1 = LidarParams(beams=360, angle_min=0.0, range_min=0.15, range_max=12.0, rate=5.5,
+                         noise_stddev=0.01)
 
 
 def cast_rays(origin: tuple[float, float], angles: FloatArray, geometry: StaticGeometry,

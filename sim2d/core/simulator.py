@@ -1,4 +1,4 @@
-"""The simulator: one TurtleBot3 in a static world, advanced in fixed physics steps of sim time.
+"""The simulator: one robot model in a static world, advanced in fixed physics steps of sim time.
 
 The caller owns time: ``step()`` advances exactly ``physics_step`` seconds; the ROS node decides how
 many steps to run per wall second (the real-time factor). Everything random comes from the injected
@@ -59,9 +59,10 @@ class Simulator:
     def __init__(self, world: World, robot: RobotModel, params: SimParams, rng: np.random.Generator,
                  lidar: LidarParams | None = None, odometry: OdometryParams | None = None,
                  battery: BatteryParams | None = None, collision: CollisionParams | None = None) -> None:
+        """Components left None take their defaults; the lidar takes the robot's own sensor."""
         self.world, self.robot, self.params = world, robot, params
         lidar_rng, odom_rng = rng.spawn(2)
-        self.lidar = Lidar(lidar or LidarParams(), world.geometry, lidar_rng)
+        self.lidar = Lidar(lidar or robot.lidar, world.geometry, lidar_rng)
         self.odometry = Odometry(odometry or OdometryParams(), odom_rng)
         self.battery = Battery(battery or BatteryParams())
         self.collision = CollisionModel(world.geometry, robot, collision or CollisionParams())
@@ -142,10 +143,11 @@ class Simulator:
         self.time_ns += self.step_ns
 
     def scan_pose(self) -> Pose2D:
-        """Pose of base_scan in the map frame (m, rad)."""
+        """Pose of the scan frame (base_scan, rplidar_link...) in the map frame (m, rad)."""
         ox, oy, _ = self.robot.scan_offset
         c, s = math.cos(self.pose.yaw), math.sin(self.pose.yaw)
-        return Pose2D(self.pose.x + c * ox - s * oy, self.pose.y + s * ox + c * oy, self.pose.yaw)
+        return Pose2D(self.pose.x + c * ox - s * oy, self.pose.y + s * ox + c * oy,
+                      normalize_angle(self.pose.yaw + self.robot.scan_yaw))
 
     def scan(self) -> FloatArray:
         """One lidar scan (beams,) (m, REP 117) taken now."""

@@ -1,5 +1,8 @@
 """Command line: ``sim2d --world turtlebot3_world --robot waffle --rtf 5 --x -2.0 --y -0.5 --yaw 0``.
 
+``--robot`` is one of sim2d.core.robot.ROBOTS: ``waffle``, ``burger`` (TurtleBot3, LDS-01 lidar) or
+``tb4`` (TurtleBot4: round Create 3 base, RPLIDAR A1 in ``rplidar_link``).
+
 ``--lockstep`` makes the simulator wait for the stack (never more than ``lockstep.max_lead`` of sim
 time ahead of the slowest participant); ``--lockstep-participants nav2,localization`` also holds
 the first step until those roles have reported. ``--rtf`` still caps the speed on top of that.
@@ -15,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import math
 import os
 import sys
 from dataclasses import dataclass
@@ -25,6 +27,7 @@ from typing import Any, NoReturn
 import yaml
 
 from ros_tools.runtime.executor import add_executor_argument, executor_kind
+from sim2d.core.robot import ROBOTS
 from sim2d.ros.config import ParamValue, SimConfig, build_config, coerce, defaults, load_params_file
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
@@ -76,9 +79,9 @@ def parse_command_line(argv: list[str]) -> CommandLine:
     if "--ros-args" in argv:
         split = argv.index("--ros-args")
         argv, ros_args = argv[:split], argv[split:]
-    parser = _Parser(prog="sim2d", description="2D TurtleBot3 simulator on the ROS 2 graph.")
+    parser = _Parser(prog="sim2d", description="2D TurtleBot simulator on the ROS 2 graph.")
     parser.add_argument("--world", help="world name (sim2d/worlds/) or world/map_server YAML path")
-    parser.add_argument("--robot", choices=("waffle", "burger"))
+    parser.add_argument("--robot", choices=sorted(ROBOTS))
     parser.add_argument("--rtf", type=_rtf, help="real-time factor; 'max' or 0 = as fast as possible")
     parser.add_argument("--x", type=float, help="spawn x in the map frame (m)")
     parser.add_argument("--y", type=float, help="spawn y in the map frame (m)")
@@ -129,9 +132,8 @@ def _check_world_and_spawn(config: SimConfig) -> None:
     from sim2d.core.world import check_spawn, load_world
 
     world = load_world(config.node.world)
-    corners = robot_model(config.node.robot).footprint()
     pose = config.sim.initial_pose
-    check_spawn(world, pose.x, pose.y, max(math.hypot(x, y) for x, y in corners))
+    check_spawn(world, pose.x, pose.y, robot_model(config.node.robot).bounding_radius())
 
 
 def main(argv: list[str] | None = None) -> int:

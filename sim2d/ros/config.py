@@ -12,11 +12,15 @@ Layout (Nav2 style, config/sim2d.yaml)::
         initial_pose: {x: -2.0, y: -0.5, yaw: 0.0}
         lidar: {beams: 360, ...}     # LidarParams, OdometryParams, BatteryParams, CollisionParams
         lockstep: {enabled: false, participants: [nav2]}   # LockstepParams (string arrays are tuples)
+
+The lidar's defaults are the robot's sensor (sim2d/core/robot.py: LDS-01 on the TurtleBot3s, RPLIDAR
+A1 on tb4), applied under the user's values: an explicit ``lidar.*`` (file, ``-p``) still wins.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,6 +31,7 @@ from sim2d.core.battery import BatteryParams
 from sim2d.core.collision import CollisionParams
 from sim2d.core.lidar import LidarParams
 from sim2d.core.odometry import OdometryParams
+from sim2d.core.robot import robot_model
 from sim2d.core.simulator import SimParams
 
 NODE_NAME = "sim2d"
@@ -39,7 +44,7 @@ class NodeParams:
 
     Attributes:
         world: world name (sim2d/worlds/<name>.yaml) or path to a world or map_server YAML.
-        robot: "waffle" or "burger".
+        robot: a model of sim2d.core.robot.ROBOTS: "waffle", "burger" or "tb4".
         seed: seed of every random stream (lidar noise, odometry drift).
         real_time_factor: sim seconds per wall second; 0 runs as fast as possible.
         enable_stamped_cmd_vel: cmd_vel is TwistStamped instead of Twist (Nav2's knob).
@@ -133,14 +138,31 @@ def _flatten_defaults(instance: Any, prefix: str, out: dict[str, ParamValue]) ->
             out[f"{prefix}{f.name}"] = value
 
 
-def defaults() -> dict[str, ParamValue]:
-    """Every parameter name (dotted) and its default."""
+def defaults(robot: str = NodeParams.robot) -> dict[str, ParamValue]:
+    """Every parameter name (dotted) and its default for ``robot``: the lidar's are its sensor's.
+
+    Names and types do not depend on the robot, only the lidar's values do. ValueError for an
+    unknown robot.
+    """
     out: dict[str, ParamValue] = {}
     for cls in _ROOTS:
         _flatten_defaults(cls(), "", out)
-    for section, cls in _SECTIONS.items():
-        _flatten_defaults(cls(), f"{section}.", out)
+    sections = {section: cls() for section, cls in _SECTIONS.items()}
+    sections["lidar"] = robot_model(robot).lidar
+    for section, instance in sections.items():
+        _flatten_defaults(instance, f"{section}.", out)
     return out
+
+
+def declare_all(declare: Callable[[str, ParamValue], Any]) -> dict[str, ParamValue]:
+    """Every parameter's value, each obtained once through ``declare(name, default)`` (the node's
+    declare_parameter): ``robot`` first, since the other defaults depend on it."""
+    robot = str(coerce("robot", declare("robot", NodeParams.robot)))
+    values: dict[str, ParamValue] = {"robot": robot}
+    for name, default in defaults(robot).items():
+        if name != "robot":
+            values[name] = coerce(name, declare(name, default))
+    return values
 
 
 def coerce(name: str, value: Any, where: str = "") -> ParamValue:
@@ -182,8 +204,8 @@ def _build(cls: type, prefix: str, values: dict[str, ParamValue]) -> Any:
 
 
 def build_config(values: dict[str, ParamValue]) -> SimConfig:
-    """A validated SimConfig from dotted parameter values (missing ones take their defaults)."""
-    merged = {**defaults(), **values}
+    """A validated SimConfig from dotted parameter values (missing ones take the robot's defaults)."""
+    merged = {**defaults(str(values.get("robot", NodeParams.robot))), **values}
     return SimConfig(_build(NodeParams, "", merged), _build(SimParams, "", merged),
                      *(_build(cls, f"{section}.", merged) for section, cls in _SECTIONS.items()))
 

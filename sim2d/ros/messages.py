@@ -26,7 +26,6 @@ MAP_FRAME = "map"
 ODOM_FRAME = "odom"
 BASE_FOOTPRINT = "base_footprint"
 BASE_LINK = "base_link"
-BASE_SCAN = "base_scan"
 
 _UNKNOWN = 1e6  # covariance of unobserved dimensions (z, roll, pitch), as gz and TB3 publish
 
@@ -92,26 +91,26 @@ class TfBuilder:
 
 
 def static_transforms(robot: RobotModel, time_ns: int) -> TFMessage:
-    """base_footprint → base_link (z) → base_scan (URDF mount) for /tf_static."""
-    chain = [(BASE_FOOTPRINT, BASE_LINK, (0.0, 0.0, robot.base_link_z)),
-             (BASE_LINK, BASE_SCAN, robot.scan_offset)]
+    """base_footprint → base_link (z) → the robot's scan frame (URDF mount and yaw) for /tf_static."""
+    chain = [(BASE_FOOTPRINT, BASE_LINK, (0.0, 0.0, robot.base_link_z), 0.0),
+             (BASE_LINK, robot.scan_frame, robot.scan_offset, robot.scan_yaw)]
     transforms = []
-    for parent, child, (x, y, z) in chain:
+    for parent, child, (x, y, z), yaw in chain:
         t = TransformStamped()
         t.header.stamp = stamp(time_ns)
         t.header.frame_id, t.child_frame_id = parent, child
         t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-        t.transform.rotation.w = 1.0
+        _set_yaw(t.transform.rotation, yaw)
         transforms.append(t)
     return TFMessage(transforms=transforms)
 
 
 class ScanBuilder:
-    """sensor_msgs/LaserScan in base_scan from the core's ranges (REP 117 ±inf kept)."""
+    """sensor_msgs/LaserScan in the robot's scan frame from the core's ranges (REP 117 ±inf kept)."""
 
-    def __init__(self, params: LidarParams) -> None:
+    def __init__(self, params: LidarParams, frame_id: str) -> None:
         msg = LaserScan()
-        msg.header.frame_id = BASE_SCAN
+        msg.header.frame_id = frame_id
         msg.angle_min, msg.angle_max = params.angle_min, params.angle_max
         msg.angle_increment = params.angle_increment
         msg.time_increment = 0.0   # all beams at one instant: no motion distortion is simulated

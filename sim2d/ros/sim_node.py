@@ -51,7 +51,7 @@ from sim2d.core.robot import Pose2D, robot_model
 from sim2d.core.simulator import Simulator
 from sim2d.core.world import load_world
 from sim2d.ros import messages
-from sim2d.ros.config import NODE_NAME, SimConfig, build_config, coerce, defaults
+from sim2d.ros.config import NODE_NAME, SimConfig, build_config, declare_all
 
 CLOCK_TOPIC, TF_TOPIC, TF_STATIC_TOPIC = "/clock", "/tf", "/tf_static"
 SCAN_TOPIC, ODOM_TOPIC, CMD_VEL_TOPIC = "scan", "odom", "cmd_vel"
@@ -76,13 +76,12 @@ def _period_ns(rate: float) -> int:
 
 
 class Sim2dNode(Node):
-    """One simulated TurtleBot3 on the ROS graph."""
+    """One simulated robot (``robot`` parameter: waffle, burger or tb4) on the ROS graph."""
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(NODE_NAME, **kwargs)  # type: ignore[arg-type]
         dynamic = ParameterDescriptor(dynamic_typing=True)
-        values = {name: coerce(name, self.declare_parameter(name, default, dynamic).value)
-                  for name, default in defaults().items()}
+        values = declare_all(lambda name, default: self.declare_parameter(name, default, dynamic).value)
         self.config: SimConfig = build_config(values)
         cfg = self.config
         self.robot = robot_model(cfg.node.robot)
@@ -137,7 +136,7 @@ class Sim2dNode(Node):
         self._odom = messages.OdometryBuilder(messages.ODOM_FRAME)
         self._truth = messages.OdometryBuilder(messages.MAP_FRAME)
         self._tf = messages.TfBuilder()
-        self._scan = messages.ScanBuilder(cfg.lidar)
+        self._scan = messages.ScanBuilder(cfg.lidar, self.robot.scan_frame)
         self.pub_tf_static.publish(messages.static_transforms(self.robot, 0))
         self.pub_collision_count.publish(UInt32(data=0))
 

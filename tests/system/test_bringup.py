@@ -55,6 +55,17 @@ def test_a_world_brings_its_map_and_spawn_unless_given():
     assert "--map" not in _specs()[2].cmd  # no --world: the parameter file's map
 
 
+def test_tb4_brings_its_parameter_file_and_the_simulator_its_model():
+    sim, _, nav2 = (spec.cmd for spec in _specs("--robot", "tb4", "--world", "depot_large"))
+    assert sim[sim.index("--robot") + 1] == "tb4"
+    assert nav2[nav2.index("--params") + 1].endswith("config/nav2_params_tb4.yaml")
+    assert nav2[nav2.index("--map") + 1].endswith("maps/depot_large.yaml")
+    waffle = _specs()[2].cmd
+    assert waffle[waffle.index("--params") + 1].endswith("config/nav2_params.yaml")
+    chosen = _specs("--robot", "tb4", "--params", str(bringup.REPO / "config" / "nav2_params.yaml"))[2].cmd
+    assert chosen[chosen.index("--params") + 1].endswith("config/nav2_params.yaml")  # --params wins
+
+
 def test_no_sim_variants():
     assert [s.name for s in _specs("--no-sim", "--no-initial-pose")] == ["nav2"]
     isolated = _specs("--no-sim", "--no-initial-pose", "--isolated")
