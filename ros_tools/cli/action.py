@@ -30,6 +30,7 @@ from ros_tools.cli.common import (
     wait_for_type,
 )
 from ros_tools.convert import message_to_yaml, yaml_to_message
+from ros_tools.runtime.actions import send_until_acknowledged
 from ros_tools.types import import_type
 
 #: GoalStatus code → the name ros2 prints (SUCCEEDED, ABORTED, ...).
@@ -126,7 +127,13 @@ def _send_goal(
     print("Waiting for an action server to become available...", flush=True)
     session.spin_until(client.server_is_ready, timeout, f"action server '{name}'")
     print(f"Sending goal:\n{_indented(goal)}\n", flush=True)
-    sent = client.send_goal_async(goal, feedback_callback=_print_feedback if print_feedback else None)
+    # Sent again every few seconds until acknowledged: a request or its answer can be lost while DDS
+    # completes the match (see ros_tools.runtime.actions.send_until_acknowledged).
+    try:
+        sent = send_until_acknowledged(client, goal, timeout, wait=session.wait,
+                                       feedback_callback=_print_feedback if print_feedback else None)
+    except TimeoutError as error:
+        raise CliError(f"timed out waiting for '{name}' to accept or reject the goal: {error}") from None
     handle = session.wait_future(sent, timeout, f"'{name}' to accept or reject the goal")
     if not handle.accepted:
         print("Goal was rejected.", flush=True)

@@ -106,17 +106,24 @@ class Session:
                 return
             self.spin_once(0.05)
 
+    def wait(self, predicate: Callable[[], bool], seconds: float) -> bool:
+        """Spin until ``predicate()`` holds (True) or ``seconds`` pass (False); a
+        ros_tools.runtime.actions ``Wait``."""
+        deadline = time.monotonic() + seconds
+        while not predicate():
+            if time.monotonic() > deadline:
+                return False
+            self.spin_once(0.05)
+        return True
+
     def spin_until(self, predicate: Callable[[], bool], timeout: float, what: str) -> None:
         """Spin until ``predicate()`` holds.
 
         Raises:
             CliError: after ``timeout`` seconds, naming ``what`` was awaited.
         """
-        deadline = time.monotonic() + timeout
-        while not predicate():
-            if time.monotonic() > deadline:
-                raise CliError(f"timed out after {timeout:.1f} s waiting for {what}")
-            self.spin_once(0.05)
+        if not self.wait(predicate, timeout):
+            raise CliError(f"timed out after {timeout:.1f} s waiting for {what}")
 
     def wait_future(self, future: Any, timeout: float, what: str) -> Any:
         """Spin until ``future`` completes and return its result (bounded by ``timeout``)."""
