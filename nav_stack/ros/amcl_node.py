@@ -21,21 +21,23 @@ filter itself lives in the core, so this node only translates and schedules:
        ``particle_cloud`` (nav2_msgs/ParticleCloud, best effort, only built when someone listens);
        map→odom on /tf stamped scan time + ``transform_tolerance``; while no scan arrives it is
        re-sent every TF_REPUBLISH_PERIOD at now + transform_tolerance, so TF never goes stale.
+       Localization health (not in Nav2, see amcl_health.py): after each filter update, status
+       ``amcl: localization`` on /diagnostics and one warning ``localization degraded: <cause>``
+       when the estimate stops being trustworthy (few beams on walls, scan off the map, spread cloud).
   srv  ``reinitialize_global_localization`` and ``request_nomotion_update`` (std_srvs/Empty),
        ``set_initial_pose`` (nav2_msgs/SetInitialPose).
 
 Parameters: every nav2_amcl name and Jazzy default (AmclParams); Nav2's nested ``initial_pose.x``,
 ``.y``, ``.z``, ``.yaw`` are read too and win over the flat ``initial_pose_x``... when set. One
 addition, ``random_seed`` (int, default 0): the particle filter's random generator is seeded with it,
-so a lockstep run repeats exactly (nav2_amcl seeds with the wall time; -1 does the same here).
+so a lockstep run repeats exactly (nav2_amcl seeds with the wall time; -1 does the same here); and
+the health check's thresholds ``health.*`` (HealthParams).
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
-from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -48,12 +50,13 @@ from sensor_msgs.msg import LaserScan as LaserScanMsg
 from std_srvs.srv import Empty
 
 from nav_stack.core.costmap.observation import LaserScan
-from nav_stack.core.localization import Amcl, AmclParams, map_to_odom
+from nav_stack.core.localization import Amcl, AmclParams, PoseEstimate, map_to_odom
+from nav_stack.ros.amcl_health import HealthReport
 from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
+from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_generator
 from nav_stack.ros.conversions import grid_from_occupancy, pose_to_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
 from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_seconds, transform_to_msg
@@ -64,35 +67,10 @@ SCAN_TF_WAIT = 1.0  # wall s a scan may wait for odometry at its stamp (a loaded
 PENDING_POLL_PERIOD = 0.01  # wall s
 TF_REPUBLISH_PERIOD = 0.1  # wall s
 WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
-DEFAULT_SEED = 0  # the particle filter's random seed unless ``random_seed`` says otherwise
 NO_POSE_WARNING = "AMCL cannot publish a pose or update the transform. Please set the initial pose..."
 #: Scans: sensor-data QoS but only the newest sample is kept (see the module docstring).
 SCAN_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
 Pose = tuple[float, float, float]
-
-
-def load_params(node: NavLifecycleNode) -> AmclParams:
-    """AmclParams from the node's parameters, reading Nav2's nested ``initial_pose.*`` names as well."""
-    params = declare_dataclass(node, AmclParams)
-    nested: dict[str, Any] = {}
-    for axis in ("x", "y", "z", "yaw"):
-        flat = f"initial_pose_{axis}"
-        default = getattr(AmclParams, flat)
-        name = f"initial_pose.{axis}"
-        if not node.has_parameter(name):
-            node.declare_parameter(name, float(default))
-        value = float(node.get_parameter(name).value)
-        if value != default:
-            nested[flat] = value
-    return dataclasses.replace(params, **nested)
-
-
-def random_generator(node: NavLifecycleNode) -> np.random.Generator:
-    """The filter's generator from the ``random_seed`` parameter (-1: seeded from OS entropy)."""
-    if not node.has_parameter("random_seed"):
-        node.declare_parameter("random_seed", DEFAULT_SEED)
-    seed = int(node.get_parameter("random_seed").value)
-    return np.random.default_rng(None if seed < 0 else seed)
 
 
 class AmclNode(NavLifecycleNode):
@@ -114,10 +92,12 @@ class AmclNode(NavLifecycleNode):
         self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
         self._owned: list[object] = []
         self._active_owned: list[object] = []
+        self.health: HealthReport | None = None
 
     # -- lifecycle -----------------------------------------------------------------------------
     def configure(self) -> None:
         self.params = load_params(self)
+        self.health_params = load_health_params(self)
         self.rng = self._given_rng or random_generator(self)
         self.tf = TransformListener(self)
         self.tf_broadcaster = TransformBroadcaster(self)
@@ -143,6 +123,7 @@ class AmclNode(NavLifecycleNode):
             self._pending_timer,
             self.create_timer(TF_REPUBLISH_PERIOD, self._republish_tf, clock=self._steady_clock),
         ]
+        self.health = HealthReport(self, self.health_params)
         if p.set_initial_pose:
             self._initial_pose((p.initial_pose_x, p.initial_pose_y, p.initial_pose_yaw), None, "parameters")
 
@@ -150,6 +131,9 @@ class AmclNode(NavLifecycleNode):
         for entity in self._active_owned:
             self._destroy(entity)
         self._active_owned = []
+        if self.health is not None:
+            self.health.destroy()
+            self.health = None
         self._pending_scan = None
         self._last_scan_stamp = -math.inf
 
@@ -212,24 +196,28 @@ class AmclNode(NavLifecycleNode):
         except ValueError as error:
             self.get_logger().warning(f"Rejected initial pose from {source}: {error}")
             return
-        self._initial_pose((pose.x, pose.y, pose.yaw), covariance_3x3(msg.pose.covariance), source)
+        applied = self._initial_pose((pose.x, pose.y, pose.yaw), covariance_3x3(msg.pose.covariance), source)
+        if applied and self.health is not None:
+            self.health.reset(source)
 
-    def _initial_pose(self, pose: Pose, covariance: np.ndarray | None, source: str) -> None:
+    def _initial_pose(self, pose: Pose, covariance: np.ndarray | None, source: str) -> bool:
+        """Seed the filter at ``pose``; False when it waits for the map or is rejected."""
         if self.amcl is None:
             self.get_logger().info(f"Initial pose from {source} arrived before the map; "
                                    "it is applied when the map arrives")
             self._pending_pose, self._pending_global = (pose, covariance, source), False
-            return
+            return False
         try:
             self.amcl.set_initial_pose(*pose, covariance)
         except ValueError as error:
             self.get_logger().warning(f"Rejected initial pose from {source}: {error}")
-            return
+            return False
         self._last_scan_stamp = -math.inf
         self.get_logger().info(f"Setting pose from {source}: {pose[0]:.3f} {pose[1]:.3f} {pose[2]:.3f}")
         now = self.get_clock().now().nanoseconds * 1e-9
         odom = self._odom_pose(None)
         self._publish_estimate(now, odom)
+        return True
 
     # -- scans -------------------------------------------------------------------------------------
     def _on_scan(self, msg: LaserScanMsg) -> None:
@@ -309,24 +297,28 @@ class AmclNode(NavLifecycleNode):
             return
         if result.updated:
             self._publish_cloud()
-            self._publish_estimate(stamp, odom)
+            estimate = self._publish_estimate(stamp, odom)
+            if estimate is not None and self.health is not None:
+                self.health.observe(self.amcl, estimate, stamp)
         elif self._map_to_odom is not None:
             self._send_tf(stamp + self.params.transform_tolerance)
 
     # -- outputs -----------------------------------------------------------------------------------
-    def _publish_estimate(self, stamp: float, odom: Pose | None) -> None:
+    def _publish_estimate(self, stamp: float, odom: Pose | None) -> PoseEstimate | None:
+        """Publish amcl_pose (and map→odom when ``odom`` is known); the estimate, None if not finite."""
         assert self.amcl is not None
         estimate = self.amcl.estimate()
         values = (estimate.x, estimate.y, estimate.yaw, *estimate.covariance.ravel())
         if not all(math.isfinite(v) for v in values):
             self.get_logger().warning("AMCL covariance or pose is NaN, likely due to an invalid "
                                       "configuration or faulty sensor measurements! Pose is not available!")
-            return
+            return None
         self.pose_pub.publish(estimate_msg(estimate.x, estimate.y, estimate.yaw, estimate.covariance,
                                            self.params.global_frame_id, stamp))
         if odom is not None:
             self._map_to_odom = map_to_odom((estimate.x, estimate.y, estimate.yaw), odom)
             self._send_tf(stamp + self.params.transform_tolerance)
+        return estimate
 
     def _publish_cloud(self) -> None:
         if self.amcl is None or self.cloud_pub.get_subscription_count() == 0:

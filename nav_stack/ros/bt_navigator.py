@@ -20,6 +20,9 @@ with TF_ERROR, 9002), e.g.
 "'compute_path_to_pose' failed with error code 206 (GOAL_OCCUPIED): ...". Status changes are
 published as nav2_msgs/BehaviorTreeLog on ``behavior_tree_log``; a PoseStamped on ``goal_pose``
 (RViz's "Nav2 Goal") is sent to our own navigate_to_pose (nav_stack/ros/goal_pose_forwarder.py).
+While localization is not trustworthy (nav_stack/ros/localization_guard.py) a new goal is refused,
+and a running one ends after ``localization_grace_period``, with UNKNOWN and "localization is not
+trustworthy: <cause>".
 """
 
 from __future__ import annotations
@@ -53,6 +56,7 @@ from nav_stack.ros.frames import Frames
 from nav_stack.ros.goal_pose_forwarder import GoalPoseForwarder
 from nav_stack.ros.goal_runs import GoalRun, Outcome
 from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.localization_guard import LocalizationGuard, LocalizationGuardParams, untrusted_message
 from nav_stack.ros.node_runner import run
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
@@ -123,7 +127,8 @@ class BtNavigator(NavLifecycleNode):
         self.selectors = SelectorTopics(self)
         self.factory = BehaviorTreeFactory()
         register_ros_nodes(self.factory, self.ros)
-        self.robot = RobotState(self.frames, p.global_frame)
+        self.localization = LocalizationGuard(self, declare_dataclass(self, LocalizationGuardParams))
+        self.robot = RobotState(self.frames, p.global_frame, trust=self.localization.trust)
         self.navigators = [
             NavigateToPoseNavigator(p.default_nav_to_pose_bt_xml, p.path_blackboard_id, p.goal_blackboard_id),
             NavigateThroughPosesNavigator(p.default_nav_through_poses_bt_xml, p.path_blackboard_id,
@@ -168,6 +173,7 @@ class BtNavigator(NavLifecycleNode):
         self._servers = []
         self._goal_pose.destroy()
         self.destroy_subscription(self._odom_sub)
+        self.localization.destroy()
         self.destroy_publisher(self._log_pub)
         self.selectors.destroy()
         self.ros.destroy()
@@ -298,6 +304,11 @@ class BtNavigator(NavLifecycleNode):
         assert session.tree is not None
         if session.run.handle.is_cancel_requested:
             self._end(session, Outcome.CANCELED, 0, "navigation was canceled")
+            return
+        lost = self.localization.untrusted_past_grace(self._now())
+        if lost is not None:
+            self._end(session, Outcome.ABORTED, UNKNOWN,
+                      f"{session.navigator.action_name}: {untrusted_message(lost)}")
             return
         try:
             status = session.tree.tick_once(self._now())

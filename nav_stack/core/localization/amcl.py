@@ -32,7 +32,13 @@ from nav_stack.core.localization.clusters import PoseEstimate, estimate_pose
 from nav_stack.core.localization.kld import bin_keys, kld_sample_count
 from nav_stack.core.localization.motion_model import angle_diff, sample_motion, wrap
 from nav_stack.core.localization.params import BEAM, AmclParams
-from nav_stack.core.localization.sensor_model import BeamModel, LikelihoodFieldModel, select_beams
+from nav_stack.core.localization.sensor_model import (
+    BeamModel,
+    Beams,
+    DistanceField,
+    LikelihoodFieldModel,
+    select_beams,
+)
 from nav_stack.core.localization.weighting import FitAverages, reweight
 
 Pose2D = tuple[float, float, float]
@@ -81,12 +87,16 @@ class Amcl:
         self.model: LikelihoodFieldModel | BeamModel = (
             BeamModel(occupancy, spec, params) if params.laser_model_type == BEAM
             else LikelihoodFieldModel(occupancy, spec, params))
+        #: Distance to the nearest wall, for checking a scan against the map at the estimate (health.py).
+        self.distance_field = (self.model.field if isinstance(self.model, LikelihoodFieldModel)
+                               else DistanceField(occupancy, spec, params.laser_likelihood_max_dist))
         free_my, free_mx = np.nonzero(occupancy == 0)
         self._free_cells = np.column_stack([free_mx, free_my])
         self.particles: FloatArray = np.zeros((0, 3))
         self.weights: FloatArray = np.zeros(0)
         self.fit = FitAverages(params.recovery_alpha_slow, params.recovery_alpha_fast)
         self.last_gamma = 1.0  # tempering exponent of the last laser update (see weighting.py)
+        self.last_beams: Beams | None = None  # the beams the last laser update weighed the particles with
         self.converged = False
         self._odom_at_update: Pose2D | None = None
         self._force_update = False
@@ -103,6 +113,7 @@ class Amcl:
         self.weights = np.full(particles.shape[0], 1.0 / particles.shape[0])
         self.fit.reset()
         self.converged = False
+        self.last_beams = None
         self._odom_at_update = None
         self._resample_count = 0
 
@@ -185,6 +196,7 @@ class Amcl:
 
     def _sensor_update(self, scan: LaserScan, laser_pose: Pose2D) -> None:
         beams = select_beams(scan, laser_pose, self.params, keep_max=self.params.laser_model_type == BEAM)
+        self.last_beams = beams
         if beams.ranges.size == 0:
             return  # nothing seen: every particle stays as likely as it was
         log_l = self.model.log_likelihood(self.particles, beams)

@@ -42,6 +42,7 @@ class Beams:
     bearings: FloatArray  # rad, base frame
     laser_pose: Pose2D
     range_max: float
+    considered: int = 0  # beams the subsampling kept, before NaN and max-range readings were dropped
 
 
 def select_beams(scan: LaserScan, laser_pose: Pose2D, params: AmclParams, keep_max: bool = False) -> Beams:
@@ -55,7 +56,7 @@ def select_beams(scan: LaserScan, laser_pose: Pose2D, params: AmclParams, keep_m
     r = ranges[idx]
     bearing = scan.angles[idx] + laser_pose[2]
     valid = ~np.isnan(r) & ((r <= range_max) if keep_max else (r < range_max))
-    return Beams(np.minimum(r[valid], range_max), bearing[valid], laser_pose, range_max)
+    return Beams(np.minimum(r[valid], range_max), bearing[valid], laser_pose, range_max, int(r.size))
 
 
 class GridLookup:
@@ -87,25 +88,53 @@ def _endpoints(lookup: GridLookup, particles: FloatArray, beams: Beams) -> tuple
     return rows_x @ basis, rows_y @ basis
 
 
+class DistanceField:
+    """Distance (m) from each cell centre to the nearest occupied cell (value 100), capped at ``max_dist``.
+
+    Why a class of its own: the likelihood field turns it into per-beam probabilities, and the
+    localization health check (health.py) asks the same question of a single pose: how far from a
+    wall does each beam end? ``values`` is (H + 2, W + 2) with a one-cell border holding ``max_dist``,
+    so an endpoint off the map reads "far from everything" without a bounds check.
+    """
+
+    def __init__(self, occupancy: npt.NDArray[np.int8], spec: GridSpec, max_dist: float) -> None:
+        self.lookup = GridLookup(spec)
+        max_cells = math.ceil(max_dist / spec.resolution)
+        d2 = squared_distance_cells(occupancy == 100, max_cells)
+        padded = np.full((spec.height + 2, spec.width + 2), max_dist)
+        padded[1:-1, 1:-1] = np.minimum(np.sqrt(d2) * spec.resolution, max_dist)
+        self.values = padded
+
+    def endpoint_indices(self, particles: FloatArray, beams: Beams) -> npt.NDArray[np.int32]:
+        """Flat index into ``values`` of every beam endpoint of every particle, shape (N, B)."""
+        spec = self.lookup.spec
+        gx, gy = _endpoints(self.lookup, particles, beams)
+        ix = np.clip(gx + 1.0, 0.0, spec.width + 1.0, out=gx).astype(np.int32)
+        iy = np.clip(gy + 1.0, 0.0, spec.height + 1.0, out=gy).astype(np.int32)
+        iy *= spec.width + 2
+        iy += ix
+        return iy
+
+    def at_endpoints(self, particles: FloatArray, beams: Beams) -> FloatArray:
+        """Distance (m) from every beam endpoint of every particle to the nearest wall, shape (N, B)."""
+        distances: FloatArray = self.values.ravel().take(self.endpoint_indices(particles, beams))
+        return distances
+
+
 class LikelihoodFieldModel:
     """Precomputed likelihood field of an occupancy map."""
 
     def __init__(self, occupancy: npt.NDArray[np.int8], spec: GridSpec, params: AmclParams) -> None:
         self.params = params
-        self.lookup = GridLookup(spec)
-        max_cells = math.ceil(params.laser_likelihood_max_dist / spec.resolution)
-        d2 = squared_distance_cells(occupancy == 100, max_cells)
-        dist = np.minimum(np.sqrt(d2) * spec.resolution, params.laser_likelihood_max_dist)
-        padded = np.full((spec.height + 2, spec.width + 2), params.laser_likelihood_max_dist)
-        padded[1:-1, 1:-1] = dist
-        self.distance = padded  # (H + 2, W + 2), border = off-map
+        self.field = DistanceField(occupancy, spec, params.laser_likelihood_max_dist)
         self._tables: dict[float, F32] = {}
 
     def _table(self, range_max: float) -> F32:
         table = self._tables.get(range_max)
         if table is None:
             p = self.params
-            pz = p.z_hit * np.exp(-(self.distance**2) / (2.0 * p.sigma_hit**2)) + p.z_rand / range_max
+            distance = self.field.values
+            pz = p.z_hit * np.exp(-(distance**2) / (2.0 * p.sigma_hit**2)) + p.z_rand / range_max
             table = np.log(np.maximum(pz, _TINY)).astype(np.float32).ravel()
             self._tables = {range_max: table}
         return table
@@ -114,13 +143,8 @@ class LikelihoodFieldModel:
         """Σ log pz over the beams, for each particle (N,)."""
         if beams.ranges.size == 0:
             return np.zeros(particles.shape[0])
-        spec = self.lookup.spec
-        gx, gy = _endpoints(self.lookup, particles, beams)
-        ix = np.clip(gx + 1.0, 0.0, spec.width + 1.0, out=gx).astype(np.int32)
-        iy = np.clip(gy + 1.0, 0.0, spec.height + 1.0, out=gy).astype(np.int32)
-        iy *= spec.width + 2
-        iy += ix
-        total: FloatArray = self._table(beams.range_max).take(iy).sum(axis=1, dtype=np.float64)
+        indices = self.field.endpoint_indices(particles, beams)
+        total: FloatArray = self._table(beams.range_max).take(indices).sum(axis=1, dtype=np.float64)
         return total
 
 

@@ -15,6 +15,7 @@ frame) and computes feedback the way Nav2 Jazzy does (reference/nav2.md §2):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
@@ -28,6 +29,7 @@ from nav_stack.core.geometry import cumulative_lengths, nearest_index
 from nav_stack.ros.bt_nodes.actions import RECOVERIES_KEY
 from nav_stack.ros.conversions import duration_msg, path_to_array, pose_stamped
 from nav_stack.ros.frames import FrameError, Frames
+from nav_stack.ros.localization_guard import untrusted_message
 
 TREES_DIR = Path(__file__).resolve().parents[3] / "config" / "trees"
 MIN_SPEED_FOR_ETA = 0.01  # m/s
@@ -47,13 +49,19 @@ class GoalError(ValueError):
         self.code = code
 
 
+def _always_trusted() -> str | None:
+    return None
+
+
 @dataclass
 class RobotState:
-    """What feedback needs besides the blackboard: TF, the global frame and the odometry speed (m/s)."""
+    """What goals and feedback need besides the blackboard: TF, the global frame, the odometry speed
+    (m/s) and ``trust``: None while localization can be trusted, else why not (localization_guard.py)."""
 
     frames: Frames
     global_frame: str
     speed: float = 0.0
+    trust: Callable[[], str | None] = _always_trusted
 
 
 def has_robot_pose(robot: RobotState) -> bool:
@@ -106,12 +114,16 @@ class Navigator:
 
         As Nav2 Jazzy's navigators, a goal is refused (TF_ERROR) while the robot's own pose is not
         known in the global frame: before localization publishes map -> odom, a plan would start
-        from nowhere and the controller would fail later with a less useful message.
+        from nowhere and the controller would fail later with a less useful message. For the same
+        reason a goal is refused (UNKNOWN) while localization says that pose is not trustworthy.
         """
         try:
             robot.frames.robot_pose(robot.global_frame)
         except FrameError as error:
             raise GoalError(f"Initial robot pose is not available: {error}", TF_ERROR) from error
+        reason = robot.trust()
+        if reason is not None:
+            raise GoalError(untrusted_message(reason))
         self._write_goal(goal, board, robot)
 
     def _write_goal(self, goal: Any, board: Blackboard, robot: RobotState) -> None:

@@ -1,4 +1,5 @@
-"""amcl node against a fake parked robot: initial pose checks, map→odom, warnings, global localization."""
+"""amcl node against a fake parked robot: initial pose checks, map→odom, warnings, global localization,
+and the localization health it reports when scans return almost nothing."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import pytest
 
 pytest.importorskip("nav2_msgs.srv")
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.srv import SetInitialPose
 from rclpy.executors import SingleThreadedExecutor
@@ -19,11 +21,13 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Empty
 
+from nav_stack.core.localization.health import LocalizationState, position_std
+from nav_stack.ros.amcl_messages import LOCALIZATION_STATUS, covariance_3x3
 from nav_stack.ros.amcl_node import NO_POSE_WARNING, AmclNode
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import DEFAULT, LATCHED
 from ros_tools.tf.ros import TransformListener
-from tests.helpers.nav_ros_loc_fakes import FakeRobot
+from tests.helpers.nav_ros_loc_fakes import BEAMS, FakeRobot
 from tests.helpers.nav_ros_loc_nodes import call
 from tests.helpers.ros import spin_until
 
@@ -161,3 +165,67 @@ def test_random_seed_parameter_makes_the_filter_repeat(ros_context: Any) -> None
     assert np.array_equal(first_draws(7), first_draws(7))
     assert not np.array_equal(first_draws(7), first_draws(8))
     assert not np.array_equal(first_draws(-1), first_draws(-1))
+
+
+class Updates:
+    """No-motion filter updates of a parked robot, each recorded as (returns, state) from amcl's monitor."""
+
+    def __init__(self, graph: Graph) -> None:
+        self.graph = graph
+        self.nomotion = graph.probe.create_client(Empty, "/request_nomotion_update")
+
+    def run(self, count: int) -> list[tuple[int, LocalizationState]]:
+        trace = []
+        for _ in range(count):
+            seen = len(self.graph.poses)
+            call(self.graph.executor, self.nomotion, Empty.Request())
+            self.graph.spin_until(lambda s=seen: len(self.graph.poses) > s, "a no-motion update")
+            monitor = self.graph.amcl.health.monitor
+            trace.append((monitor.sample.returns, monitor.state))
+        return trace
+
+
+def test_scans_that_return_almost_nothing_degrade_localization_once_with_the_cause(graph: Graph,
+                                                                                 capfd: Any) -> None:
+    """A parked robot whose lidar suddenly sees only a 30° arc (open space): after 5 updates amcl warns
+    once, naming the numbers, and reports WARN on /diagnostics; with walls back it recovers after 3."""
+    log = Log(capfd)
+    statuses: list[DiagnosticStatus] = []
+    graph.probe.create_subscription(
+        DiagnosticArray, "/diagnostics",
+        lambda msg: statuses.extend(s for s in msg.status if s.name == LOCALIZATION_STATUS), DEFAULT)
+    tight = _pose_msg(*TRUE_POSE)
+    tight.pose.covariance = [0.01 if i in (0, 7) else 0.005 if i == 35 else 0.0 for i in range(36)]
+    call(graph.executor, graph.probe.create_client(SetInitialPose, "/set_initial_pose"),
+         SetInitialPose.Request(pose=tight))
+    updates = Updates(graph)
+    walls = graph.robot.ranges
+    before = updates.run(3)
+    assert all(state is LocalizationState.OK and r >= 50 for r, state in before), before
+    sample = graph.amcl.health.monitor.sample
+    assert position_std(covariance_3x3(graph.poses[-1].pose.covariance)) == pytest.approx(sample.position_std)
+
+    open_space = np.full(BEAMS, np.inf)
+    open_space[:30] = walls[:30]  # one 30° arc still sees a wall
+    sub = open_space[::6]  # AMCL's 60 of 360 beams
+    returns = int(np.count_nonzero((sub > 0.12) & (sub < 3.5)))
+    graph.robot.ranges = open_space
+    lost = updates.run(8)
+    first = next(i for i, (r, _) in enumerate(lost) if r == returns)  # a scan in flight may come first
+    assert first <= 2 and all(r == returns for r, _ in lost[first:]), lost
+    assert [state for _, state in lost[first:first + 5]] == [LocalizationState.OK] * 4 + [
+        LocalizationState.DEGRADED], lost
+    cause = f"few beams on walls: {returns} of 60 beams returned within 3.5 m (< 20 %)"
+    graph.spin_until(lambda: log.has(f"localization degraded: {cause}"), "the degradation warning")
+    graph.spin_until(lambda: bool(statuses) and statuses[-1].level == DiagnosticStatus.WARN, "a WARN status")
+    assert statuses[-1].message == cause
+    assert {kv.key: kv.value for kv in statuses[-1].values}["valid beams"] == f"{returns} of 60 within 3.5 m"
+
+    graph.robot.ranges = walls
+    back = updates.run(6)
+    first = next(i for i, (r, _) in enumerate(back) if r >= 50)
+    assert [state for _, state in back[first:first + 3]] == [LocalizationState.DEGRADED] * 2 + [
+        LocalizationState.OK], back
+    graph.spin_until(lambda: log.has("localization recovered: "), "the recovery info")
+    graph.spin_until(lambda: statuses[-1].level == DiagnosticStatus.OK, "an OK status")
+    assert log.text.count("localization degraded:") == 1

@@ -1,4 +1,5 @@
-"""amcl's message layouts: the (x, y, yaw) covariance round-trips through Nav2's 6×6 placement."""
+"""amcl's message layouts: the (x, y, yaw) covariance round-trips through Nav2's 6×6 placement, and
+the localization health becomes one /diagnostics status."""
 
 from __future__ import annotations
 
@@ -9,7 +10,17 @@ import pytest
 
 pytest.importorskip("nav2_msgs.msg", reason="nav2_msgs is not built (run the interface build)")
 
-from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
+from diagnostic_msgs.msg import DiagnosticStatus
+
+from nav_stack.core.localization.health import HealthMonitor, HealthParams, HealthSample
+from nav_stack.ros.amcl_messages import (
+    LOCALIZATION_STATUS,
+    covariance_3x3,
+    estimate_msg,
+    health_msg,
+    particle_cloud_msg,
+    time_msg,
+)
 
 
 def test_estimate_places_the_covariance_where_nav2_clients_read_it() -> None:
@@ -28,3 +39,18 @@ def test_particle_cloud_carries_every_particle_and_weight() -> None:
     cloud = particle_cloud_msg(particles, np.array([0.25, 0.75]), "map", time_msg(3.0))
     assert [p.weight for p in cloud.particles] == [0.25, 0.75]
     assert cloud.particles[1].pose.position.y == 2.0 and cloud.header.stamp.sec == 3
+
+
+def test_health_status_is_ok_then_warn_with_the_cause_and_the_numbers() -> None:
+    monitor = HealthMonitor(HealthParams(bad_updates_to_degrade=1))
+    ok = health_msg(monitor, 4.0).status[0]
+    assert (ok.name, ok.level, ok.message) == (LOCALIZATION_STATUS, DiagnosticStatus.OK, "localized")
+    assert ok.values == []  # no numbers before the first filter update
+    monitor.update(HealthSample(60, 9, 9, 3.5, 0.12, 0.05))
+    msg = health_msg(monitor, 5.5)
+    warn = msg.status[0]
+    assert warn.level == DiagnosticStatus.WARN and msg.header.stamp.sec == 5
+    assert warn.message == "few beams on walls: 9 of 60 beams returned within 3.5 m (< 20 %)"
+    assert {kv.key: kv.value for kv in warn.values} == {
+        "valid beams": "9 of 60 within 3.5 m", "matched ratio": "1.00", "position std (m)": "0.120",
+        "yaw std (rad)": "0.050"}
