@@ -9,8 +9,10 @@ navigation fails becomes a MissedWaypoint (index, pose, NavigateToPose error_cod
 on and succeeds with the missed list. Cancel cancels the running navigation.
 
 The execute callback is a coroutine: it awaits its futures, looking at them (and at a cancel)
-every ``1 / loop_rate`` s of node time, so the executor thread keeps serving meanwhile. Waits for
-the navigator to appear or acknowledge are bounded by SERVER_WAIT s of wall time (a safety net).
+every ``1 / loop_rate`` s of node time, so the executor thread keeps serving meanwhile. The wait for
+the navigator to appear is bounded by SERVER_WAIT s of wall time (a safety net); a goal the
+navigator does not acknowledge is sent again (ros_tools.runtime.actions.acknowledged), SENDS copies
+at most, since a request or its answer can be lost while DDS completes a match.
 """
 
 from __future__ import annotations
@@ -30,11 +32,12 @@ from rclpy.parameter import Parameter
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run
 from nav_stack.ros.params import declare_dataclass
-from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.actions import ActionServer, acknowledged
 from ros_tools.runtime.waiting import sleep
 
 Result = FollowWaypoints.Result
-SERVER_WAIT = 5.0  # s (wall) to wait for navigate_to_pose to appear or acknowledge a goal
+SERVER_WAIT = 5.0  # s (wall) to wait for navigate_to_pose to appear, or to answer a cancel
+SENDS = 3  # copies of a NavigateToPose goal (actions.ACK_RETRY_S apart) before the waypoint is missed
 
 
 @dataclass(frozen=True)
@@ -117,9 +120,12 @@ class WaypointFollower(NavLifecycleNode):
         """Navigate to ``pose``: (reached, error_code, error_msg)."""
         if not await self._poll(handle, self._nav.server_is_ready, SERVER_WAIT):
             return False, Result.UNKNOWN, "navigate_to_pose is not available"
-        sent = self._nav.send_goal_async(NavigateToPose.Goal(pose=pose))
-        if not await self._poll(handle, sent.done, SERVER_WAIT):
-            return False, Result.UNKNOWN, "navigate_to_pose did not acknowledge the goal"
+        wanted = lambda: not handle.is_cancel_requested and self._active  # noqa: E731
+        sent = await acknowledged(self, self._nav, NavigateToPose.Goal(pose=pose), SENDS, wanted)
+        if sent is None:
+            if not wanted():
+                raise CanceledError
+            return False, Result.UNKNOWN, f"navigate_to_pose acknowledged none of {SENDS} copies of the goal"
         nav_handle = sent.result()
         if not nav_handle.accepted:
             return False, Result.UNKNOWN, "navigate_to_pose rejected the goal"
