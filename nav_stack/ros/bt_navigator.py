@@ -62,7 +62,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from ros_tools.runtime.actions import ActionServer
 
-ROBOT_POSE_WAIT_S = 2.0  # s (node clock) a new goal waits for the robot pose before TF_ERROR
+ROBOT_POSE_WAIT_S = 5.0  # s (wall, steady clock) a new goal waits for the robot pose before TF_ERROR
 FEEDBACK_PERIOD = 0.05  # s (wall) between feedback messages; Nav2 sends one per tick
 
 
@@ -115,7 +115,7 @@ class BtNavigator(NavLifecycleNode):
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._wall = Clock(clock_type=ClockType.SYSTEM_TIME)  # BT event stamps, as Nav2's logger
         self._timer: Any = None
-        self._pose_wait_since: float | None = None  # s (node clock) a new goal began waiting for the pose
+        self._pose_wait_since: float | None = None  # s (steady clock) a new goal began waiting for the pose
         self.navigators: list[Navigator] = []
 
     # -- lifecycle ---------------------------------------------------------------------------------
@@ -271,15 +271,17 @@ class BtNavigator(NavLifecycleNode):
         """True while a new goal should wait for the robot pose instead of being refused.
 
         Nav2 refuses a goal at once when the robot pose is unknown (TF_ERROR). Here the goal waits
-        up to ROBOT_POSE_WAIT_S of node time first: localization publishes map -> odom only after
-        its first filter update (SLAM after its first scan), so a goal sent the moment the stack
-        reports ready would be refused depending on how fast the messages crossed. Past the wait,
-        Navigator.write_goal refuses it as Nav2 does.
+        up to ROBOT_POSE_WAIT_S first: localization publishes map -> odom only after its first
+        filter update (SLAM after its first scan), and this node's /tf subscription may still be
+        matching the localizer's publisher, so a goal sent the moment the stack reports ready would
+        be refused depending on how fast the messages crossed. The wait is in wall time (steady
+        clock) because discovery is: at rtf 10 two seconds of sim time are 0.2 s of wall time (a
+        CI run saw exactly that refusal). Past the wait, Navigator.write_goal refuses it as Nav2 does.
         """
         if has_robot_pose(self.robot):
             self._pose_wait_since = None
             return False
-        now = self._now()
+        now = self._steady.now().nanoseconds * 1e-9
         if self._pose_wait_since is None:
             self._pose_wait_since = now
         if now - self._pose_wait_since < ROBOT_POSE_WAIT_S:
