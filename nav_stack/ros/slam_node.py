@@ -38,6 +38,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -179,6 +180,17 @@ class SlamNode(NavLifecycleNode):
         if p.transform_publish_period > 0.0:
             self._active.append(self.create_timer(p.transform_publish_period, self._send_tf))
         self.get_logger().info(ACTIVE_MESSAGE)
+
+    def inputs_heard(self) -> bool:
+        """Active, with a matched publisher on the scan topic and on /tf.
+
+        Why: the first scan mapped is taken to be at ``map_start_pose``. Lockstep waits for this
+        (``main``'s ``ready``) so that the simulator does not drive off while the scan subscription
+        is still matching: a CI run mapped its first scan 0.6 m from the start, and the whole tour
+        was that far off.
+        """
+        scan: Any = self._active[0] if self._active else None  # activate() puts the subscription first
+        return scan is not None and scan.get_publisher_count() > 0 and self.count_publishers("/tf") > 0
 
     def deactivate(self) -> None:
         self._pending = None
@@ -339,8 +351,14 @@ def main(argv: list[str] | None = None) -> int:
     from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
     autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
-    return run_nodes(lambda: [SlamNode()], role="slam", rclpy_args=rclpy_args, executor=executor,
-                     autostart=autostart)
+    nodes: list[SlamNode] = []
+
+    def build() -> list[SlamNode]:
+        nodes.append(SlamNode())
+        return nodes
+
+    return run_nodes(build, role="slam", rclpy_args=rclpy_args, executor=executor, autostart=autostart,
+                     ready=lambda: bool(nodes) and nodes[0].inputs_heard())
 
 
 if __name__ == "__main__":
