@@ -175,10 +175,18 @@ class Harness:
             node.destroy_node()
 
 
+DISCOVERY_WAIT = 60.0  # s (wall) a new client may take to discover its server (see send_goal)
+
+
 def send_goal(client: Any, goal: Any, timeout: float = 15.0, feedback: Callable[[Any], None] | None = None
               ) -> Any:
-    """Send an action goal and return the accepted goal handle."""
-    wait_until(lambda: client.server_is_ready(), timeout, f"action server {client._action_name}")
+    """Send an action goal and return the accepted goal handle.
+
+    ``timeout`` bounds the acknowledgement; discovering the server gets DISCOVERY_WAIT s (wall) of
+    its own, a safety net: a client created mid-test can take over 15 s to discover a server late
+    in a loaded full-suite run (CI run U), and nothing is measured by that wait."""
+    wait_until(lambda: client.server_is_ready(), max(timeout, DISCOVERY_WAIT),
+               f"action server {client._action_name}")
     handle = send_until_acknowledged(client, goal, timeout, feedback_callback=feedback).result()
     assert handle.accepted, f"{type(goal).__name__} rejected"
     return handle
