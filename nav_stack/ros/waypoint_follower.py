@@ -10,9 +10,12 @@ on and succeeds with the missed list. Cancel cancels the running navigation.
 
 The execute callback is a coroutine: it awaits its futures, looking at them (and at a cancel)
 every ``1 / loop_rate`` s of node time, so the executor thread keeps serving meanwhile. The wait for
-the navigator to appear is bounded by SERVER_WAIT s of wall time (a safety net); a goal the
-navigator does not acknowledge is sent again (ros_tools.runtime.actions.acknowledged), SENDS copies
-at most, since a request or its answer can be lost while DDS completes a match.
+the navigator to appear is bounded by SERVER_WAIT s of wall time (a safety net) and happens until
+the navigator has been seen once: rmw_fastrtps calls a server unavailable whenever the graph holds
+unequal numbers of request readers and response writers for its services (another navigator coming
+or going), so asking again before every waypoint would miss waypoints to a passing glitch. A goal
+the navigator does not acknowledge is sent again (ros_tools.runtime.actions.acknowledged), SENDS
+copies at most, since a request or its answer can be lost while DDS completes a match.
 """
 
 from __future__ import annotations
@@ -77,11 +80,13 @@ class WaypointFollower(NavLifecycleNode):
         super().__init__("waypoint_follower", **kwargs)
         self._active = False
         self._server: ActionServer | None = None
+        self._navigator_seen = False  # navigate_to_pose was discovered once (see the module doc)
 
     def configure(self) -> None:
         self.params = declare_dataclass(self, WaypointFollowerParams)
         self.wait_params = declare_dataclass(self, WaitAtWaypointParams, "wait_at_waypoint.")
         self._nav = ActionClient(self, NavigateToPose, "navigate_to_pose")
+        self._navigator_seen = False
         self._server = ActionServer(
             self, FollowWaypoints, "follow_waypoints", self._execute,
             goal_callback=lambda _goal: GoalResponse.ACCEPT if self._active else GoalResponse.REJECT,
@@ -118,8 +123,10 @@ class WaypointFollower(NavLifecycleNode):
 
     async def _navigate(self, handle: Any, pose: Any) -> tuple[bool, int, str]:
         """Navigate to ``pose``: (reached, error_code, error_msg)."""
-        if not await self._poll(handle, self._nav.server_is_ready, SERVER_WAIT):
-            return False, Result.UNKNOWN, "navigate_to_pose is not available"
+        if not self._navigator_seen:
+            if not await self._poll(handle, self._nav.server_is_ready, SERVER_WAIT):
+                return False, Result.UNKNOWN, "navigate_to_pose is not available"
+            self._navigator_seen = True
         wanted = lambda: not handle.is_cancel_requested and self._active  # noqa: E731
         sent = await acknowledged(self, self._nav, NavigateToPose.Goal(pose=pose), SENDS, wanted)
         if sent is None:
