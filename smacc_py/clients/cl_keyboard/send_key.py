@@ -1,7 +1,8 @@
 """``smacc-key <key> [--topic /keyboard_unicode]``: press a key for a running state machine.
 
 Publishes the key's code point as std_msgs/UInt16, like SMACC2's keyboard_server_node, after waiting
-(up to ``--wait`` s) for a subscriber so the key is not lost; exits 1 when nobody listens.
+(up to ``--wait`` s) for a subscriber so the key is not lost; exits 1 when nobody listens or the
+subscriber does not acknowledge the key within ``--wait`` s.
 """
 
 from __future__ import annotations
@@ -42,7 +43,13 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return 1
             time.sleep(0.05)
         publisher.publish(UInt16(data=ord(options.key)))
-        publisher.wait_for_all_acked(Duration(seconds=options.wait))
+        if not publisher.wait_for_all_acked(Duration(seconds=options.wait)):
+            print(
+                f"smacc-key: {options.topic}'s subscriber did not acknowledge {options.key!r} within "
+                f"{options.wait:.0f} s; press it again (--wait sets the limit)",
+                file=sys.stderr,
+            )
+            return 1
         print(f"smacc-key: sent {options.key!r} on {options.topic}")
         return 0
     finally:

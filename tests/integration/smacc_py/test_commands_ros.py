@@ -9,7 +9,7 @@ import pytest
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from smacc2_msgs.msg import SmaccTransitionLogEntry
+from smacc2_msgs.msg import SmaccStatus, SmaccTransitionLogEntry
 
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
 from tests.helpers.ros import REPO, spin_until, start_python, stop_process
@@ -31,6 +31,8 @@ def _key(entry: SmaccTransitionLogEntry) -> tuple[str, str, str]:
 def test_smacc_run_and_smacc_key_drive_the_machine_across_processes(ros_context) -> None:  # type: ignore[no-untyped-def]
     # No bonds and a clock that stands still: StAllSensorsGo's 15 s (sim) timer never fires, so only
     # key N can leave it, however long the key's process takes to start and discover the machine.
+    # The key goes once the machine's status names StAllSensorsGo: its keyboard behavior listens only
+    # from its state's entry, and /keyboard_unicode is subscribed earlier, when the client is built.
     fake = FakeNav2(ros_context, bond_nodes=(), clock_rate=0.0).start()
     probe = rclpy.create_node("run_probe", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
@@ -39,14 +41,18 @@ def test_smacc_run_and_smacc_key_drive_the_machine_across_processes(ros_context)
     probe.create_subscription(
         SmaccTransitionLogEntry, "/SmNav2Test1/smacc/transition_log", log.append, LOG_QOS
     )
+    states: list[str] = []
+    probe.create_subscription(
+        SmaccStatus, "/SmNav2Test1/smacc/status", lambda msg: states.extend(msg.current_states), LOG_QOS
+    )
     proc = start_python("smacc_py.ros.runner", ["sm_nav2_test_1", "--ros-args", "-p", "use_sim_time:=true"])
     output = ""
     try:
         spin_until(
             executor,
-            lambda: probe.count_subscribers("/keyboard_unicode") > 0 or proc.poll() is not None,
+            lambda: "StAllSensorsGo" in states or proc.poll() is not None,
             30.0,
-            "smacc-run to subscribe /keyboard_unicode",
+            "smacc-run's status to name StAllSensorsGo",
         )
         assert proc.poll() is None
         key = subprocess.run(
