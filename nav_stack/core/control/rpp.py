@@ -14,7 +14,8 @@ A blocked arc is retried toward a carrot at half the distance, down to two cells
 lies on an arc nearer the path, which the planner kept free, so the robot follows a bend instead of
 stopping where the arc to the far carrot cuts the corner (Nav2 raises at once). When even that arc
 is blocked, the robot faces away from the path's direction beside an obstacle; it turns on the spot
-toward the closest carrot first.
+toward the closest carrot first, and where that turn would swing its body into the obstacle (its
+back to a pillar), it steps straight ahead, or back, until the turn is free.
 
 The collision check also ends at the first simulated pose within ``goal_dist_tol`` of the goal: the
 robot stops there to turn onto the goal heading, so the rest of the arc is never driven. Without
@@ -56,6 +57,9 @@ from nav_stack.core.grid import FREE_SPACE, MAX_NON_OBSTACLE, NO_INFORMATION
 
 #: rad: heading error toward the closest carrot below which turning on the spot cannot help
 ALIGNED = 0.05
+#: m a blocked turn may be freed by a straight step (RegulatedPurePursuit._step_clear), and how far
+#: off the path the robot may be for it: the step is a way out of a corner, not a detour.
+STEP_CLEAR_DISTANCE, STEP_CLEAR_MAX_OFFSET = 0.10, 0.15
 
 
 @dataclass(frozen=True)
@@ -222,7 +226,7 @@ class RegulatedPurePursuit:
             if self._rotating_to_goal_heading(path[-1], local[-1]):  # the final turn is what is blocked
                 return self._creep_to_goal(robot, local[-1], grid, closest)
             if lookahead <= closest:
-                return self._align_with(carrot, robot, velocity, grid)
+                return self._align_with(carrot, robot, velocity, grid, float(np.hypot(*local[0, :2])))
             lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
 
     def _creep_to_goal(self, robot: Pose2D, goal: FloatArray, grid: CostGrid, done: float) -> Twist2D:
@@ -238,16 +242,37 @@ class RegulatedPurePursuit:
                 return creep
         raise NoValidControl("collision ahead: the turn onto the goal heading is blocked")
 
-    def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid) -> Twist2D:
+    def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid,
+                    offset: float) -> Twist2D:
         """Even the arc to the closest carrot is blocked: turn on the spot toward that carrot (the
-        path's direction right there), from where the arcs run along the path; raise if already
-        facing it or if the turn itself is blocked."""
+        path's direction right there), from where the arcs run along the path. When the turn is
+        blocked too, step straight away from what blocks it (:meth:`_step_clear`); raise if already
+        facing the carrot or if no step is free either. ``offset``: the robot's distance (m) from the
+        path."""
         angle = math.atan2(carrot[1], carrot[0])
         if abs(angle) > ALIGNED:
             turn = self._rotate(angle, velocity)
             if not self._collision_ahead(robot, turn, 0.0, grid):
                 return turn
+            if offset < STEP_CLEAR_MAX_OFFSET:
+                step = self._step_clear(robot, grid)
+                if step is not None:
+                    return step
         raise NoValidControl("collision ahead on the way to the carrot")
+
+    def _step_clear(self, robot: Pose2D, grid: CostGrid) -> Twist2D | None:
+        """A turn on the spot that swings the body into an obstacle: the waffle's rear corners reach
+        0.238 m from the axle, so with its back a few centimetres from a pillar it cannot turn toward a
+        path that leaves sideways (seen: the battery patrol wedged beside the pillar at (-1.1, -1.1),
+        spin and backup refused too). Creep straight ahead, else back, at
+        ``min_approach_linear_velocity`` when that is free for STEP_CLEAR_DISTANCE (m); the next
+        cycle turns once the corners clear. None when neither way is free."""
+        speed = self.params.min_approach_linear_velocity
+        for direction in (1.0, -1.0):
+            step = Twist2D(direction * speed, 0.0)
+            if not self._collision_ahead(robot, step, STEP_CLEAR_DISTANCE, grid):
+                return step
+        return None
 
     def _command(self, robot: Pose2D, velocity: Twist2D, path: FloatArray, local: FloatArray,
                  lookahead: float, grid: CostGrid) -> tuple[Twist2D, FloatArray]:

@@ -402,6 +402,25 @@ def test_rpp_facing_into_a_wall_turns_on_the_spot_then_leaves_the_band_without_c
     assert max(p.y for p in poses) < 0.005
 
 
+def test_rpp_with_its_back_to_a_wall_steps_away_before_turning_toward_a_path_that_leaves_sideways() -> None:
+    """The battery patrol's wedge beside a pillar: centre 0.23 m from a wall behind it (outside the
+    0.22 m band), the path leaving 75° to the side. Turning on the spot would swing a rear corner
+    (0.238 m from the axle) into the wall, so does every arc, and the behaviors refuse too; RPP creeps
+    straight ahead as far as needed, then turns and follows the path without touching the wall."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = with_obstacle(spec, 0.5, 0.7, -1.0, 1.0)  # lethal cells from x = 0.5
+    waffle = CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
+    start = Pose2D(0.27, 0.0, math.pi)
+    path = polyline_path([(0.27, 0.0), (0.0, -1.0)])
+    yaw = start.yaw + np.linspace(0.0, -1.3, 27)
+    assert motion_collides(waffle, grid, np.full_like(yaw, start.x), np.zeros_like(yaw), yaw)
+    poses: list[Pose2D] = []
+    pose, reached, _ = drive(RegulatedPurePursuit(footprint=waffle), path, grid, start, -1.84, poses=poses)
+    assert reached, pose
+    xs, ys, yaws = (np.array([getattr(p, f) for p in poses]) for f in ("x", "y", "yaw"))
+    assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
+
+
 # ------------------------------------------------------------------ path handler
 
 
