@@ -3,7 +3,8 @@
 Per call of ``next_goal``: find frontier clusters of at least ``min_frontier_size``; keep those
 that known free space joins to the robot (none behind a wall); compute path distances from the
 robot through cells with clearance for ``robot_radius``; give each frontier the reachable cell
-nearest its middle (within ``goal_search_radius``) as its goal; drop frontiers whose goal lies near
+nearest its middle (within ``goal_search_radius``, and ``robot_radius`` clear of unknown cells too)
+as its goal; drop frontiers whose goal lies near
 a failed one; and return the goal of least cost. No frontier with a reachable goal left means the
 exploration is complete.
 
@@ -22,7 +23,7 @@ import numpy as np
 
 from nav_stack.core.exploration.frontiers import Frontier, Occupancy, find_frontiers, free_mask, unknown_area
 from nav_stack.core.exploration.params import ExplorerParams
-from nav_stack.core.exploration.reachability import path_distances, traversable_mask
+from nav_stack.core.exploration.reachability import clear_of, path_distances, traversable_mask
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
 
@@ -103,8 +104,11 @@ class Explorer:
             np.hypot(gx - pose.x, gy - pose.y) <= p.robot_radius
         )
         distance = path_distances(traversable, spec, (mx, my))
-        reachable = np.isfinite(distance)
-        rx, ry, rd = gx[reachable], gy[reachable], distance[reachable]
+        # A goal keeps robot_radius from unknown cells too: a pillar seen from one side has an unknown
+        # far side, and a goal there would park the robot in it (seen: the robot sent 0.13 m from the
+        # surface of turtlebot3_world's centre pillar, and wedged there).
+        usable = np.isfinite(distance) & clear_of(occupancy < 0, spec, p.robot_radius)
+        rx, ry, rd = gx[usable], gy[usable], distance[usable]
         # A frontier counts only if known free space joins it to the robot (not one behind a wall).
         connected = np.isfinite(path_distances(free_mask(occupancy, p.occupied_threshold), spec, (mx, my)))
         scored: list[ScoredFrontier] = []

@@ -22,15 +22,20 @@ _STEP, _WALL = 0, 1
 _STEP_TABLE = [1.0] + [math.inf] * 255
 
 
+def clear_of(mask: BoolArray, spec: GridSpec, radius: float) -> BoolArray:
+    """Cells whose clearance (m, centre to the nearest ``mask`` cell's edge) is ``radius`` or more."""
+    reach = math.ceil(radius / spec.resolution) + 1
+    d2 = squared_distance_cells(mask, reach)
+    clearance = np.sqrt(d2.astype(np.float64)) * spec.resolution - 0.5 * spec.resolution
+    return np.asarray(clearance >= radius, dtype=np.bool_)
+
+
 def traversable_mask(
     occupancy: Occupancy, spec: GridSpec, robot_radius: float, occupied_threshold: int
 ) -> BoolArray:
     """Free cells with a clearance (m, centre to nearest occupied cell edge) of ``robot_radius`` or more."""
     occupied = occupancy >= occupied_threshold
-    reach = math.ceil(robot_radius / spec.resolution) + 1
-    d2 = squared_distance_cells(occupied, reach)
-    clearance = np.sqrt(d2.astype(np.float64)) * spec.resolution - 0.5 * spec.resolution
-    return free_mask(occupancy, occupied_threshold) & (clearance >= robot_radius)
+    return free_mask(occupancy, occupied_threshold) & clear_of(occupied, spec, robot_radius)
 
 
 def path_distances(traversable: BoolArray, spec: GridSpec, start: tuple[int, int]) -> FloatArray:

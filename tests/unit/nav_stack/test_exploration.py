@@ -106,6 +106,26 @@ def test_explorer_picks_a_reachable_goal_with_clearance_facing_the_frontier() ->
     assert 1.5 <= goal.x <= 2.0 and abs(goal.yaw) < math.pi / 2  # at the frontier (x = 2.0), facing +x
 
 
+def test_a_goal_keeps_the_robot_radius_from_unknown_cells_too() -> None:
+    """A pillar seen from the west: its west half occupied, its east half and the shadow behind it
+    unknown. The free cells beside the shadow are clear of every occupied cell, but a goal there
+    would park the robot in the pillar's unseen half (the centre pillar wedge seen in CI)."""
+    data = room(40, 20)
+    mx, my = np.meshgrid(np.arange(40), np.arange(20))
+    x, y = (mx + 0.5) * RES, (my + 0.5) * RES
+    pillar = np.hypot(x - 2.0, y - 1.0) <= 0.15
+    data[pillar & (x < 2.0)] = 100
+    data[pillar & (x >= 2.0)] = -1
+    data[(x > 2.0) & (x < 3.2) & (np.abs(y - 1.0) < 0.2)] = -1
+    spec = GridSpec(40, 20, RES)
+    result = Explorer().next_goal(data, spec, Pose2D(0.5, 1.0, 0.0))
+    assert result.status is ExplorationStatus.GOAL and result.goal is not None
+    goal = result.goal
+    unknown = data < 0
+    gap = np.hypot(x[unknown] - goal.x, y[unknown] - goal.y).min() - 0.5 * RES
+    assert gap >= 0.22, (goal, gap)
+
+
 def test_explorer_prefers_the_nearer_of_two_equal_frontiers() -> None:
     data = room(60, 20)
     data[1:-1, 1:4] = -1  # unknown pocket at the left end
