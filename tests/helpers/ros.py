@@ -85,14 +85,26 @@ def release_dds_participants() -> int:
 
     Why: rmw_fastrtps keeps a context's DomainParticipant (and its UDP discovery ports) until the
     last rmw node of that context is gone, and neither ``rclpy.shutdown`` nor ``Node.destroy_node``
-    (which leaves action clients and servers alive, and they hold the node) ends that by itself; the
-    Python objects usually sit in reference cycles until a full collection. Localhost discovery
-    (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) pings a bounded range of participant ids, so after
+    (which leaves action clients and servers alive, and they hold the node: destroyed here first)
+    ends that by itself; the Python objects usually sit in reference cycles until a full collection.
+    Localhost discovery (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) pings a bounded range of participant
+    ids, so after
     some thirty leftover participants in a test session, two new processes of the same domain
     never discover each other (seen in CI: /initialpose never matched AMCL's subscription).
     """
+    from rclpy.action import ActionClient, ActionServer
+
     gc.collect()
-    orphans = [obj for obj in gc.get_objects()
+    objects = gc.get_objects()
+    # Action servers and clients first: each holds its node's rcl handle (and so the participant)
+    # until destroyed, and Node.destroy_node leaves them alone (seen in CI: a later test's
+    # ``ros2py node list`` still found three bt_navigator rigs and missed its own node).
+    actions = [obj for obj in objects if isinstance(obj, (ActionServer, ActionClient))
+               and not obj._node.context.ok()]
+    for action in actions:
+        with contextlib.suppress(Exception):
+            action.destroy()
+    orphans = [obj for obj in objects
                if isinstance(obj, Node) and not obj.context.ok()]
     for node in orphans:
         with contextlib.suppress(Exception):  # a half-torn-down node must not fail the next test
