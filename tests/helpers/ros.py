@@ -88,9 +88,8 @@ def release_dds_participants() -> int:
     (which leaves action clients and servers alive, and they hold the node: destroyed here first)
     ends that by itself; the Python objects usually sit in reference cycles until a full collection.
     Localhost discovery (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST) pings a bounded range of participant
-    ids, so after
-    some thirty leftover participants in a test session, two new processes of the same domain
-    never discover each other (seen in CI: /initialpose never matched AMCL's subscription).
+    ids, so after some thirty leftover participants in a test session, two new processes of the same
+    domain never discover each other (seen in CI: /initialpose never matched AMCL's subscription).
     """
     from rclpy.action import ActionClient, ActionServer
 
