@@ -99,7 +99,7 @@ def release_dds_participants() -> int:
     # until destroyed, and Node.destroy_node leaves them alone (seen in CI: a later test's
     # ``ros2py node list`` still found three bt_navigator rigs and missed its own node).
     actions = [obj for obj in objects if isinstance(obj, (ActionServer, ActionClient))
-               and not obj._node.context.ok()]
+               and getattr(obj, "_node", None) is not None and not obj._node.context.ok()]
     for action in actions:
         with contextlib.suppress(Exception):
             action.destroy()

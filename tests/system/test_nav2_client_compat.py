@@ -101,7 +101,7 @@ class MiniNavigator:
         while not self.amcl_poses:
             assert time.monotonic() < deadline, "no /amcl_pose after publishing /initialpose"
             self.set_initial_pose(-2.0, -0.5)
-            time.sleep(1.0)
+            poll(lambda: bool(self.amcl_poses), 1.0)  # published again each second until AMCL answers
         self._wait_active("bt_navigator")
         # Not in BasicNavigator: AMCL's map -> odom reaches each process a while after /amcl_pose (up
         # to a second under a loaded full-suite run), and until then the planner answers 207 (its

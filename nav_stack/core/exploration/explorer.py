@@ -4,9 +4,8 @@ Per call of ``next_goal``: find frontier clusters of at least ``min_frontier_siz
 that known free space joins to the robot (none behind a wall); compute path distances from the
 robot through cells with clearance for ``robot_radius``; give each frontier the reachable cell
 nearest its middle (within ``goal_search_radius``, and ``robot_radius`` clear of unknown cells too)
-as its goal; drop frontiers whose goal lies near
-a failed one; and return the goal of least cost. No frontier with a reachable goal left means the
-exploration is complete.
+as its goal; drop frontiers whose goal lies near a failed one; and return the goal of least cost. No
+frontier with a reachable goal left means the exploration is complete.
 
 The caller (a node, or a test loop) reports back: ``mark_failed(goal)`` when navigation to it
 failed, and ``mark_reached(goal)`` when it arrived. A goal offered again near a reached one means
