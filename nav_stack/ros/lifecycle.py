@@ -5,19 +5,27 @@ configures and activates them in order, and each active node heartbeats a bond o
 manager (and SMACC2's CbWaitNav2Nodes) can tell it is alive. This base gives subclasses four hooks
 (``configure``, ``activate``, ``deactivate``, ``cleanup``) that may raise; an exception becomes a
 logged FAILURE of the transition (the node keeps serving its lifecycle services) instead of a crash.
+A transition that is not valid from the current state is answered ``success: false``, as rclcpp's
+lifecycle nodes answer it (rclpy 7.1 raises from the service callback, which ends the process); a
+manager that sent a transition again, its first answer lost in discovery, gets that answer.
 """
 
 from __future__ import annotations
 
 import uuid
+from collections.abc import Callable
+from typing import Any
 
 from bond.msg import Status
 from rclpy.clock import Clock, ClockType
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.timer import Timer
 
 from ros_tools.runtime.executor import reentrant_default_group
+
+RCLError = _rclpy.RCLError  # what rcl's lifecycle state machine raises for an invalid transition
 
 BOND_TOPIC = "/bond"
 BOND_HEARTBEAT_PERIOD = 0.1  # s, as nav2_util::LifecycleNode::createBond sets it
@@ -39,6 +47,23 @@ class NavLifecycleNode(LifecycleNode):
         self._bond_instance = str(uuid.uuid4())
         self._bond_timer: Timer | None = None
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._service_change_state.callback = self._refusing_invalid(self._service_change_state.callback)
+
+    def _refusing_invalid(self, change_state: Callable[[Any, Any], Any]) -> Callable[[Any, Any], Any]:
+        """rclpy's change_state callback, answering ``success: false`` to a transition that is not
+        valid from the current state (the state is unchanged) instead of raising."""
+
+        def guarded(request: Any, response: Any) -> Any:
+            try:
+                return change_state(request, response)
+            except RCLError as error:
+                label = self._state_machine.current_state[1]
+                self.get_logger().warning(f"Unable to start transition {request.transition.id} from "
+                                          f"current state {label}: {str(error).split(',')[0]}")
+                response.success = False
+                return response
+
+        return guarded
 
     # -- hooks for subclasses ------------------------------------------------------------------
     def configure(self) -> None:

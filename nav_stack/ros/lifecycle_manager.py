@@ -46,11 +46,15 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from ros_tools.runtime.coroutines import create_async_service, in_task, spawn
 from ros_tools.runtime.executor import reentrant_default_group
-from ros_tools.runtime.waiting import Serializer, sleep, wait_for
+from ros_tools.runtime.requests import SERVICE_RETRY_S, call_service
+from ros_tools.runtime.waiting import Serializer, sleep
 
 BOND_CHECK_PERIOD = 0.2  # s, Nav2's bond timer
 RESPAWN_CHECK_PERIOD = 1.0  # s
 SERVICE_POLL_PERIOD = 0.1  # s
+#: s before a change_state request is sent again: longer than a transition takes (a costmap's
+#: configure on a large map), so that a normal bring-up sends each transition once.
+TRANSITION_RESEND_S = 5.0
 QUICK_TIMEOUT = 2.0  # s per call while tearing down after a bond failure (a dead node must not stall it)
 
 GOAL_STATE = {
@@ -204,11 +208,14 @@ class LifecycleManager(Node):
         return ok
 
     # -- one node --------------------------------------------------------------------------------
-    async def _call(self, client: Client, request: Any, quick: bool = False) -> Any:
+    async def _call(self, client: Client, request: Any, quick: bool = False,
+                    resend_after: float = SERVICE_RETRY_S) -> Any:
         """The response of one service call, or None when the service is missing or too slow.
 
         Waits up to ``service_timeout`` for the service and the answer; ``quick`` does not wait for a
-        missing service and gives the answer QUICK_TIMEOUT.
+        missing service and gives the answer QUICK_TIMEOUT. An unanswered request is sent again
+        (ros_tools.runtime.requests: a response can be lost in discovery), so a transition may reach
+        the node twice; :meth:`_change` judges by the node's state, not by one answer.
         """
         timeout = min(QUICK_TIMEOUT, self.params.service_timeout) if quick else self.params.service_timeout
         deadline = time.monotonic() + timeout
@@ -222,12 +229,11 @@ class LifecycleManager(Node):
                 self.get_logger().info(f"Waiting for service {client.srv_name}...")
             polls += 1
             await sleep(self, SERVICE_POLL_PERIOD, self._steady)
-        future = client.call_async(request)
-        if not await wait_for(self, future, max(0.1, deadline - time.monotonic()), self._steady):
-            client.remove_pending_request(future)
+        response = await call_service(self, client, request, max(0.1, deadline - time.monotonic()),
+                                      self._steady, resend_after)
+        if response is None:
             self.get_logger().error(f"service {client.srv_name} did not answer within {timeout:.1f} s")
-            return None
-        return future.result()
+        return response
 
     async def _state_of(self, name: str, quick: bool = False) -> int | None:
         response = await self._call(self._get_state[name], GetState.Request(), quick)
@@ -243,8 +249,10 @@ class LifecycleManager(Node):
         self._message(f"{LABEL[transition]} {name}")
         request = ChangeState.Request()
         request.transition.id = transition
-        response = None if current is None else await self._call(self._change_state[name], request, quick)
-        if response is None or not response.success or await self._state_of(name, quick) != goal:
+        response = None if current is None else await self._call(self._change_state[name], request, quick,
+                                                                 TRANSITION_RESEND_S)
+        # The state decides: a resent copy of a transition that succeeded is answered "invalid".
+        if response is None or await self._state_of(name, quick) != goal:
             self.get_logger().error(f"Failed to change state for node: {name}")
             return False
         return await self._bond(name) if transition == Transition.TRANSITION_ACTIVATE else True

@@ -25,7 +25,7 @@ from rclpy.action import ActionServer as RclpyActionServer
 from rclpy.task import Future
 
 from ros_tools.runtime.coroutines import spawn
-from ros_tools.runtime.waiting import first_of, steady_clock, wait_for
+from ros_tools.runtime.requests import Wait, first_answer, poll
 
 
 class ActionServer(RclpyActionServer):
@@ -69,20 +69,6 @@ def _traceback() -> str:
 #: s (wall) an unacknowledged goal request waits before it is sent again.
 ACK_RETRY_S = 5.0
 
-#: ``wait(predicate, seconds) -> bool``: True once ``predicate()`` holds, False after ``seconds``.
-Wait = Callable[[Callable[[], bool], float], bool]
-
-
-def poll(predicate: Callable[[], bool], seconds: float, step: float = 0.02) -> bool:
-    """A :data:`Wait` for a client whose node an executor spins in another thread: check every
-    ``step`` s; True once ``predicate()`` holds, False after ``seconds``."""
-    deadline = time.monotonic() + seconds
-    while not predicate():
-        if time.monotonic() >= deadline:
-            return False
-        time.sleep(step)
-    return True
-
 
 def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait = poll,
                             feedback_callback: Any = None,
@@ -90,13 +76,12 @@ def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait =
     """Send ``goal`` and send it again every ACK_RETRY_S s until the server answers one copy; that
     copy's ``send_goal_async`` future (its result may still be a rejection).
 
-    Why: ``server_is_ready`` is the client's view of the match. The server's response writer may not
-    have matched the client's reader yet, and Fast DDS then drops the response after a short wait,
-    without an error; a request that reaches a reader still matching can be dropped the same way.
-    Seen under load and right after a stack restarts. Each copy carries a new goal id; a copy
-    acknowledged after the first is canceled if accepted, so that it cannot preempt the first.
-    Every copy's (future, goal id) is appended to ``copies``, so that a caller interrupted before the
-    acknowledgement can cancel what the server accepted. TimeoutError after ``timeout`` s (wall).
+    Why: see :mod:`.requests` (a response dropped while the server still matches the client; a
+    request that reaches a reader still matching can be dropped the same way). Each copy carries a
+    new goal id; a copy acknowledged after the first is canceled if accepted, so that it cannot
+    preempt the first. Every copy's (future, goal id) is appended to ``copies``, so that a caller
+    interrupted before the acknowledgement can cancel what the server accepted. TimeoutError after
+    ``timeout`` s (wall).
     """
     from unique_identifier_msgs.msg import UUID
 
@@ -125,14 +110,8 @@ async def acknowledged(node: Any, client: Any, goal: Any, sends: int,
     ``send_goal_async`` future; None when no copy was acknowledged or ``wanted()`` turned False.
     Copies acknowledged later, or after the caller stopped wanting the goal, are canceled if accepted.
     """
-    clock = steady_clock() if clock is None else clock
-    copies: list[Future] = []
-    answer: Future | None = None
-    while answer is None and len(copies) < sends and wanted():
-        copies.append(client.send_goal_async(goal))
-        answered = first_of(*copies)
-        if await wait_for(node, answered, ACK_RETRY_S, clock):
-            answer = answered.result() if wanted() else None
+    answer, copies = await first_answer(node, lambda: client.send_goal_async(goal), [ACK_RETRY_S] * sends,
+                                        clock, wanted)
     for copy in copies:
         if copy is not answer:
             copy.add_done_callback(cancel_if_accepted)

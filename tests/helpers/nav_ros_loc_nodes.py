@@ -8,17 +8,19 @@ from typing import Any
 from rclpy.client import Client
 from rclpy.executors import Executor
 
-from tests.helpers.ros import REPO, spin_until
+from ros_tools.runtime.requests import SERVICE_RETRY_S, call_until_answered
+from tests.helpers.ros import REPO, spin_until, spinning
 
 MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
 
 
-def call(executor: Executor, client: Client, request: Any, timeout: float = 10.0) -> Any:
-    """Call a service from a test, spinning ``executor`` until the answer arrives (bounded waits)."""
+def call(executor: Executor, client: Client, request: Any, timeout: float = 10.0,
+         resend_after: float | None = SERVICE_RETRY_S) -> Any:
+    """Call a service from a test, spinning ``executor`` until the answer arrives (bounded waits;
+    the request is sent again while unanswered unless ``resend_after`` is None, see
+    ros_tools.runtime.requests)."""
     spin_until(executor, client.service_is_ready, timeout, f"service {client.srv_name}")
-    future = client.call_async(request)
-    spin_until(executor, future.done, timeout, f"answer of {client.srv_name}")
-    return future.result()
+    return call_until_answered(client, request, timeout, spinning(executor), resend_after)
 
 
 def write_map_yaml(path: Path, **fields: object) -> Path:

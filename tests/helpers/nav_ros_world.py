@@ -31,6 +31,7 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
 from ros_tools.runtime.actions import send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.requests import call_until_answered
 from ros_tools.runtime.runner import spin_until_shutdown
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
@@ -131,9 +132,7 @@ class WorldNode(Node):
 
     def call(self, client: Any, request: Any, timeout: float = 10.0) -> Any:
         wait_until(client.service_is_ready, timeout, f"service {client.srv_name}")
-        future = client.call_async(request)
-        wait_until(future.done, timeout, f"response of {client.srv_name}")
-        return future.result()
+        return call_until_answered(client, request, timeout)
 
     def reset_sim(self) -> None:
         """Robot back to the spawn pose (odometry and collision count restart)."""

@@ -20,7 +20,7 @@ from typing import Any
 from rclpy.executors import Executor
 from rclpy.node import Node
 
-from ros_tools.runtime.actions import poll
+from ros_tools.runtime.requests import poll
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -35,7 +35,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from ros_tools.runtime.actions import ACK_RETRY_S, ActionClient, poll
+from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.requests import call_until_answered, poll
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.ros import REPO
@@ -71,7 +72,7 @@ class MiniNavigator:
         self._services: dict[str, Any] = {}
 
     def call(self, srv_type: Any, name: str, request: Any, timeout: float = 30.0) -> Any:
-        """Call ``name``, asking again every ACK_RETRY_S s until answered (``timeout`` s in all).
+        """Call ``name``, asking again while unanswered (ros_tools.runtime.requests; ``timeout`` s in all).
 
         Not in BasicNavigator, which waits forever: the server's response can be lost while its
         writer still matches this client's reader (seen in CI: get_state unanswered for 30 s). The
@@ -81,12 +82,7 @@ class MiniNavigator:
         if client is None:
             client = self._services[name] = self.node.create_client(srv_type, name)
         wait(client.service_is_ready, timeout, f"service {name}")
-        deadline = time.monotonic() + timeout
-        while (left := deadline - time.monotonic()) > 0:
-            future = client.call_async(request)
-            if poll(future.done, min(ACK_RETRY_S, left)):
-                return future.result()
-        raise AssertionError(f"timed out after {timeout:.0f} s waiting for the answer of {name}")
+        return call_until_answered(client, request, timeout)
 
     def _wait_active(self, node_name: str) -> None:
         def active() -> bool:

@@ -24,6 +24,7 @@ from std_srvs.srv import Trigger
 
 from nav_stack.ros.lifecycle_manager import LifecycleManager
 from nav_stack.ros.map_server import MapServer
+from tests.helpers.lossy_service import LoseResponses
 from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
 from tests.helpers.ros import spin_until, start_python, stop_process
 
@@ -96,6 +97,16 @@ def test_manage_nodes_commands_and_is_active(graph: Graph) -> None:
     assert graph.command(Request.SHUTDOWN)
     assert not graph.active()
     assert graph.map_server._state_machine.current_state[0] == FINALIZED
+
+
+def test_lost_answers_of_a_managed_node_do_not_fail_the_bringup(graph: Graph) -> None:
+    """The first get_state and change_state answers of map_server are lost (as rmw_fastrtps loses one
+    while discovery still matches): the manager sends again and judges the transition by the state."""
+    lost = [LoseResponses(graph.map_server._service_get_state, 1),
+            LoseResponses(graph.map_server._service_change_state, 1)]
+    assert graph.command(Request.STARTUP)
+    assert graph.active() and graph.states() == (ACTIVE, ACTIVE)
+    assert [loss.lost for loss in lost] == [1, 1]
 
 
 @pytest.mark.parametrize("graph", [1.0], indirect=True)

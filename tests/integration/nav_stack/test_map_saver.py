@@ -49,7 +49,8 @@ class Graph:
         self.map_pub.publish(occupancy_msg(data, spec, "map", self.probe.get_clock().now().to_msg()))
 
     def save(self, **fields: Any) -> bool:
-        return bool(call(self.executor, self.client, SaveMap.Request(**fields)).result)
+        # Sent once: a second copy would find the file the first wrote, or wait again for the map.
+        return bool(call(self.executor, self.client, SaveMap.Request(**fields), resend_after=None).result)
 
 
 @pytest.fixture(params=["events", "single"])
