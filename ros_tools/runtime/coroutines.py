@@ -63,8 +63,15 @@ def spawn(node: Node, coroutine: Coroutine[Any, Any, Any]) -> Future:
             result.set_exception(error)
             return
         if isinstance(waiting_for, Future):
-            waiting_for.add_done_callback(lambda _done: executor.create_task(step))
+            waiting_for.add_done_callback(lambda _done: resume())
         else:
+            executor.create_task(step)
+
+    def resume() -> None:
+        # A future completed after the executor was shut down (e.g. by another coroutine's finally
+        # block as the garbage collector closes it): the coroutine is abandoned with its executor.
+        # rclpy's Python executors have no public flag for it; the EventsExecutor has no such field.
+        if not getattr(executor, "_is_shutdown", False):
             executor.create_task(step)
 
     executor.create_task(step)

@@ -52,7 +52,9 @@ class Graph:
         self.amcl_state = self.probe.create_client(GetState, f"/{AMCL}/get_state")
 
     def command(self, command: int) -> bool:
-        return bool(call(self.executor, self.manage, Request(command=command), timeout=60.0).success)
+        # Sent once: a command takes seconds, and a second STARTUP would find the nodes active.
+        return bool(call(self.executor, self.manage, Request(command=command), timeout=60.0,
+                         resend_after=None).success)
 
     def active(self) -> bool:
         return bool(call(self.executor, self.is_active, Trigger.Request()).success)

@@ -1,8 +1,10 @@
 """ros_tools.runtime.requests against a real rclpy service whose responses are lost, as rmw_fastrtps
-loses one while the server still matches the client: the request is sent again and answered."""
+loses one while the server still matches the client: the request is sent again and answered. And
+the coroutine runner they rely on (ros_tools.runtime.coroutines) at an executor's shutdown."""
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterator
 from typing import Any
 
@@ -80,3 +82,26 @@ def test_waits_double_and_add_up_to_the_timeout() -> None:
     assert doubling(1.0, 30.0) == [1.0, 2.0, 4.0, 8.0, 15.0]
     assert doubling(1.0, 0.4) == [0.4]
     assert sum(doubling(0.5, 7.25)) == pytest.approx(7.25)
+
+
+def test_a_coroutine_whose_executor_shut_down_is_not_resumed(rig: Any) -> None:
+    """A future completed after the shutdown (as a GC-closed coroutine's finally block completes one)
+    neither resumes the coroutine nor raises from the done callback."""
+    from rclpy.task import Future
+
+    from ros_tools.runtime.coroutines import until
+
+    node, executor = rig
+    gate, resumed = Future(), []
+
+    async def waiter() -> None:
+        await until(gate)
+        resumed.append(True)
+
+    spawn(node, waiter())
+    executor.spin_once(timeout_sec=0.1)  # the coroutine runs up to its await
+    executor.shutdown()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gate.set_result(True)
+    assert not resumed
