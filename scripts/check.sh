@@ -18,7 +18,6 @@ step "import-linter"
 step "pytest"
 # The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
 # not wall time, and no failed test is re-run: one that fails is a defect to find.
-# NAVSUITE_TEST_WORKERS=2 runs the suite on two pytest-xdist workers (each its own ROS_DOMAIN_ID,
-# about 6 minutes instead of 10); not the default: with both cores loaded, the lockstep's remaining
-# jitter (a command lands anywhere within max_lead) still changes outcomes at the tightest spots.
-"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-0}" "$@"
+# The suite runs on two pytest-xdist workers (each its own ROS_DOMAIN_ID): about 8 minutes on two
+# cores instead of 13 on one. NAVSUITE_TEST_WORKERS=0 runs it in this one process (for debugging).
+"$VENV/bin/python" -m pytest -n "${NAVSUITE_TEST_WORKERS:-2}" "$@"
