@@ -101,7 +101,11 @@ def parse_command_line(argv: list[str]) -> CommandLine:
     # The node receives these values as parameter_overrides, which rclpy ranks above --ros-args; so
     # fold '--params-file' and '-p name:=value' from --ros-args in here, after the default file and
     # before the explicit flags (precedence: defaults < config file < --ros-args < flags).
-    values.update(_ros_args_values(ros_args))
+    from_ros_args = _ros_args_values(ros_args)
+    values.update(from_ros_args)
+    if args.world is not None and not {args.x, args.y, args.yaw} - {None} \
+            and not any(name.startswith("initial_pose.") for name in from_ros_args):
+        values.update(_world_spawn(args.world))
     flags = {"world": args.world, "robot": args.robot, "real_time_factor": args.rtf, "seed": args.seed,
              "initial_pose.x": args.x, "initial_pose.y": args.y, "initial_pose.yaw": args.yaw,
              "enable_stamped_cmd_vel": args.stamped, "lockstep.participants": args.lockstep_participants,
@@ -124,6 +128,22 @@ def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:
             if name in defaults():  # others (use_sim_time, qos overrides...) are rclpy's business
                 values[name] = coerce(name, yaml.safe_load(text), "--ros-args")
     return values
+
+
+def _world_spawn(world_name: str) -> dict[str, ParamValue]:
+    """The first of the world's ``spawns`` as initial_pose values; none for a world without spawns.
+
+    Why: ``--world office_small`` alone must not put the robot at the parameter file's pose, which
+    is turtlebot3_world's spawn (inside a wall elsewhere). Precedence: the --x/--y/--yaw flags and
+    --ros-args initial_pose values, then the --world flag's spawn, then the parameter file.
+    """
+    from sim2d.core.world import load_world
+
+    spawns = load_world(world_name).spawns
+    if not spawns:
+        return {}
+    x, y, yaw = spawns[0]
+    return {"initial_pose.x": x, "initial_pose.y": y, "initial_pose.yaw": yaw}
 
 
 def _check_world_and_spawn(config: SimConfig) -> None:

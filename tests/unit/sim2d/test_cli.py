@@ -24,6 +24,18 @@ def test_flags_override_the_parameter_file(tmp_path: Path) -> None:
     assert ros_args == ["--ros-args", "-r", "scan:=base_scan"]
 
 
+def test_a_world_flag_alone_spawns_at_the_worlds_first_spawn() -> None:
+    from sim2d.core.world import load_world
+
+    def spawn(argv: list[str]) -> tuple[float, float, float]:
+        pose = build_config(parse(argv)[0]).sim.initial_pose
+        return pose.x, pose.y, pose.yaw
+
+    assert spawn(["--world", "office_small"]) == load_world("office_small").spawns[0] != spawn([])
+    assert spawn(["--world", "office_small", "--x", "1.5"])[:2] == (1.5, -0.5)  # flags: the file's pose
+    assert spawn(["--world", "office_small", "--ros-args", "-p", "initial_pose.x:=2.0"])[0] == 2.0
+
+
 def test_shipped_config_matches_the_defaults() -> None:
     values, _ = parse([])
     assert build_config(values) == build_config({})
