@@ -21,6 +21,7 @@ import numpy as np
 
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
+from nav_stack.ros.bringup import COMPONENT_READY, component_role
 from ros_tools.launch import Launcher, ProcessSpec
 from tests.helpers.ros import REPO
 from tests.helpers.slam_world import dilate
@@ -51,18 +52,22 @@ def nav_specs() -> list[ProcessSpec]:
     return [ProcessSpec(name, _py(f"nav_stack.ros.{name}", "--autostart", *ros)) for name in NAV_SERVERS]
 
 
-def localization_specs(map_yaml: Path) -> list[ProcessSpec]:
-    """map_server with ``map_yaml`` and amcl initialised at the seeds' spawn, under their manager."""
-    ros = ["--ros-args", "--params-file", str(PARAMS_FILE), "-p", "use_sim_time:=true"]
-    manager = "lifecycle_manager_localization"
+def saved_map_specs(map_yaml: Path) -> list[ProcessSpec]:
+    """Navigation on a saved map as ``nav-bringup --map`` runs it: the seeds' initial pose publisher,
+    then every Nav2 node (map_server and amcl included) in one process, lockstep role ``nav2``.
+
+    Why one process: AMCL's map -> odom must reach the controller before a goal. Across processes
+    that waits on DDS discovery (seen with both cores loaded: a goal failed with TF_ERROR "frame
+    [map] does not exist" in controller_server while the test's own listener had the frame); in one
+    process the controller's listener shares AMCL's participant and has it at once.
+    """
     return [
-        ProcessSpec("map_server", _py("nav_stack.ros.map_server", *ros, "-p", f"yaml_filename:={map_yaml}")),
-        ProcessSpec("amcl", _py("nav_stack.ros.amcl_node", *ros, "-p", "set_initial_pose:=true",
-                                "-p", f"initial_pose.x:={START[0]}", "-p", f"initial_pose.y:={START[1]}",
-                                "-p", f"initial_pose.yaw:={START[2]}")),
-        ProcessSpec(manager, _py("nav_stack.ros.lifecycle_manager", *ros, "-r", f"__node:={manager}",
-                                 "-p", "node_names:=[map_server,amcl]", "-p", "autostart:=true"),
-                    ready=r"Managed nodes are active"),
+        ProcessSpec("initial_pose", _py("nav_stack.ros.initial_pose_publisher", "--ros-args",
+                                        "-p", "use_sim_time:=true", "-p", f"x:={START[0]}",
+                                        "-p", f"y:={START[1]}", "-p", f"yaw:={START[2]}"), required=False),
+        ProcessSpec(component_role("all"), _py("nav_stack.ros.bringup", "component", "all",
+                                               "--params", str(PARAMS_FILE), "--map", str(map_yaml)),
+                    ready=COMPONENT_READY.format(name="all")),
     ]
 
 
@@ -80,7 +85,8 @@ class Stack:
             self.lines.append(line)
 
     def alive(self) -> bool:
-        return all(r.proc.poll() is None for r in self.launcher.running)
+        """No required process has exited (the initial pose publisher exits once AMCL confirms)."""
+        return all(r.proc.poll() is None for r in self.launcher.running if r.spec.required)
 
     def logged(self, process: str, text: str) -> bool:
         """Whether ``process`` (its prefix) has printed a line containing ``text``."""

@@ -15,7 +15,8 @@ error shows up as a low IoU. The SLAM pose (slam/pose) must stay near the ground
 bounds of tests/helpers/nav_ros_slam_drive.py).
 
 Phase 2 (seed: "navigation on the saved map"): the saved map round-trips through map_server, amcl
-starts at the spawn, and a NavigateToPose goal to Nav2's system-test goal (0.0, 2.0) succeeds.
+starts at the spawn, and a NavigateToPose goal to Nav2's system-test goal (0.0, 2.0) succeeds. The
+stack runs as ``nav-bringup --map`` runs it: every Nav2 node in one process.
 
 Both phases run sim2d in lockstep with the stack's processes at SYSTEM_RTF (``max`` by default).
 """
@@ -58,9 +59,9 @@ from tests.helpers.nav_ros_slam_stack import (
     Stack,
     compare_with_reference,
     explore,
-    localization_specs,
     nav_specs,
     progress_numbers,
+    saved_map_specs,
     sim_spec,
 )
 from tests.helpers.ros import SYSTEM_RTF, wait_until
@@ -69,7 +70,7 @@ pytestmark = [pytest.mark.slow, pytest.mark.ros]
 #: The processes the simulator waits for in lockstep (their run_nodes roles, and this test's probe).
 PROBE_ROLE = "slam_system_probe"
 SLAM_ROLES = ("slam", *NAV_SERVERS, PROBE_ROLE)
-LOCALIZATION_ROLES = ("map_server", "amcl", *NAV_SERVERS, PROBE_ROLE)
+SAVED_MAP_ROLES = ("nav2", PROBE_ROLE)  # phase 2: the one-process stack, as nav-bringup runs it
 GOAL = (0.0, 2.0, 0.0)
 #: Exploring takes 90-150 sim s here; the limits end a stuck run with the explorer's log.
 EXPLORE_SIM_S, EXPLORE_WALL_S = 300.0, 360.0
@@ -169,19 +170,17 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
 
         saved = load_map(map_file.with_suffix(".yaml"))
         assert (saved.data == -1).any(), "unknown cells must stay unknown after the round trip"
-        sim = sim_spec(SYSTEM_RTF, participants=LOCALIZATION_ROLES)
-        stack = Stack([sim, *localization_specs(map_file.with_suffix(".yaml")), *nav_specs()])
+        sim = sim_spec(SYSTEM_RTF, participants=SAVED_MAP_ROLES)
+        stack = Stack([sim, *saved_map_specs(map_file.with_suffix(".yaml"))])
         try:
-            # Phase 1's navigate_to_pose may still be in the graph, and AMCL publishes map -> odom only
-            # after its first scan: wait for this stack's bt_navigator and AMCL, as BasicNavigator does.
-            wait_until(lambda: stack.logged("bt_navigator", "Activating") or not stack.alive(), 60.0,
-                       "bt_navigator activating")
+            # The stack is active (its ready line), and AMCL publishes map -> odom only after its
+            # first scan: wait for AMCL's pose, as BasicNavigator does.
             wait_until(lambda: bool(probe.amcl_poses) or not stack.alive(), 60.0, "/amcl_pose")
             wait_until(lambda: probe.navigate.server_is_ready() or not stack.alive(), 60.0,
                        "navigate_to_pose")
-            # AMCL's map -> odom reaches each process a while after /amcl_pose (up to a second in a
-            # loaded full-suite run); a goal sent before the controller has it fails with TF_ERROR.
-            # A fresh listener: phase 1's transforms, at later sim times, are in no buffer of it.
+            # This process gets AMCL's map -> odom a while after /amcl_pose (the stack's controller
+            # shares AMCL's process and has it at once). A fresh listener: phase 1's transforms, at
+            # later sim times, are in no buffer of it.
             tf = TransformListener(probe.node)
             try:
                 tf.wait_for("map", "base_link", timeout=30.0)
