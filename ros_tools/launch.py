@@ -81,6 +81,10 @@ class _Running:
             if self.ready is not None and not self.ready.is_set() and self._pattern.search(line):  # type: ignore[union-attr]
                 self.ready.set()
 
+    def drain(self, timeout: float = 2.0) -> None:
+        """Wait (at most ``timeout`` s) until every line of an exited process has been read."""
+        self._reader.join(timeout)
+
     def signal(self, sig: int) -> None:
         if self.proc.poll() is None:
             with contextlib.suppress(ProcessLookupError):
@@ -126,6 +130,9 @@ class Launcher:
             while not running.ready.wait(0.1):
                 code = running.proc.poll()
                 if code is not None:
+                    running.drain()  # its last lines (the ready line, maybe) may still be in the pipe
+                    if running.ready.is_set():
+                        break  # ready, then exited: wait() reports its exit code
                     raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
                 if self._stop.is_set():
                     raise LaunchError("interrupted during startup")

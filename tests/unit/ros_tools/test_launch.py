@@ -5,10 +5,12 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import time
+from typing import Any
 
 import pytest
 
-from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+from ros_tools.launch import Launcher, LaunchError, ProcessSpec, _Running
 
 PY = sys.executable
 
@@ -47,6 +49,22 @@ def test_a_dying_process_stops_the_launch_with_its_exit_code():
     assert code == 3
     assert any("ERROR: crasher died with exit code 3" in line for line in lines)
     assert all(r.proc.poll() is not None for r in launcher.running), "a process was left running"
+
+
+def test_a_process_that_exits_right_after_its_ready_line_was_ready(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The output reader lags behind the exit (as on a loaded machine: CI run AH): the ready line
+    still counts, and the launch ends with the process's own exit code."""
+    pump = _Running._pump
+
+    def lagging_pump(self: _Running, prefix: str, out: Any) -> None:
+        time.sleep(0.5)  # longer than the launcher's 0.1 s readiness poll
+        pump(self, prefix, out)
+
+    monkeypatch.setattr(_Running, "_pump", lagging_pump)
+    lines, launcher = collect()
+    quick = ProcessSpec("quick", script("import sys; print('ready'); sys.exit(3)"), ready="ready")
+    assert launcher.run([quick]) == 3
+    assert any("quick is ready" in line for line in lines)
 
 
 def test_readiness_timeout_and_early_exit_are_reported():
