@@ -110,6 +110,9 @@ class ScriptedClNav2Z(ClNav2Z, ISmaccUpdatable):
                          for key in ACTION_TYPES}
         self._cmd_vel = self.world.base  # type: ignore[assignment]  # the base subscribes cmd_vel
 
+    def cancel_every_navigation_goal(self, on_answer: Callable[[int | None], None]) -> None:
+        on_answer(0)  # the scripted servers cancel a client's goals through cancel_navigation
+
     def subscribe_bonds(
         self, callback: Callable[[str, bool], None], topic: str = "/bond"
     ) -> Callable[[], None]:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from typing import Any
 
-from action_msgs.srv import CancelGoal
 from nav2_msgs.action import NavigateToPose
 
 from smacc_py.clients.cl_nav2z.cb_action_base import CbNav2ZActionBase
@@ -15,7 +14,6 @@ from smacc_py.clients.cl_nav2z.cp_switchers import CpGoalCheckerSwitcher, CpPlan
 from smacc_py.clients.cl_nav2z.cp_waypoint_navigator import CpWaypointNavigator
 from smacc_py.core import SmaccClientBehavior
 from smacc_py.ros.action_client import GoalOutcome, GoalTicket
-from smacc_py.ros.context import ros_context
 
 
 class CbNavigateGlobalPosition(CbNav2ZActionBase):
@@ -87,29 +85,22 @@ class CbNavigateNextWaypoint(CbNavigateGlobalPosition):
 
 
 class CbAbortNavigation(SmaccClientBehavior):
-    """Cancel every goal of the navigate_to_pose server (CancelGoal with zero id and stamp), then succeed.
+    """Cancel every goal of the navigate_to_pose server (CancelGoal with zero id and stamp), then succeed
+    with ``goals_canceling`` (how many the server is canceling).
 
-    Without a server there is nothing to cancel: success with a ``reason``.
+    Without a server, or without its answer, there is nothing to cancel: success with a ``reason``.
     """
 
     def on_entry(self) -> None:
         client = self.requires_client(ClNav2Z)
         client.cancel_navigation()
-        ctx = ros_context(self.sm)
-        name = f"{client.action_names[NAVIGATE_TO_POSE]}/_action/cancel_goal"
-        self._service = ctx.node.create_client(CancelGoal, name)
-        if not self._service.service_is_ready():
-            self.post_success_event(reason=f"no {name} service: nothing to cancel")
-            return
-        future = self._service.call_async(CancelGoal.Request())
-        future.add_done_callback(
-            lambda f: self.post_success_event(
-                goals_canceling=len(f.result().goals_canceling) if f.result() is not None else 0
-            )
-        )
+        client.cancel_every_navigation_goal(lambda canceling: self._on_answer(client, canceling))
 
-    def on_exit(self) -> None:
-        ros_context(self.sm).node.destroy_client(self._service)
+    def _on_answer(self, client: ClNav2Z, canceling: int | None) -> None:
+        if canceling is None:
+            self.post_success_event(reason=f"no answer from {client.cancel_service_name}: nothing to cancel")
+        else:
+            self.post_success_event(goals_canceling=canceling)
 
 
 class CbStopNavigation(SmaccClientBehavior):

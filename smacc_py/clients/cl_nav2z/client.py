@@ -11,7 +11,8 @@ Events are posted only for goals somebody still owns: a goal abandoned when its 
 ``GoalTicket.abandon``) ends silently, so it cannot trigger a transition in the next state.
 
 Every ROS endpoint of the client lives here (action clients, the cmd_vel publisher, the /bond
-subscription of CbWaitNav2Nodes), none in its behaviors: a substitute ClNav2Z given to the machine
+subscription of CbWaitNav2Nodes, the cancel-every-goal service client of CbAbortNavigation), none in
+its behaviors: a substitute ClNav2Z given to the machine
 (``SmaccStateMachineBase(substitutes=...)``) then replaces all of Nav2 for the shipped behaviors.
 """
 
@@ -20,11 +21,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from action_msgs.srv import CancelGoal
 from bond.msg import Status
 from geometry_msgs.msg import PoseStamped, Twist
 from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from ros_tools.runtime.coroutines import spawn
+from ros_tools.runtime.requests import call_service
 from smacc_py.core import (
     EvActionAborted,
     EvActionCancelled,
@@ -37,6 +41,7 @@ from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
 from smacc_py.ros.context import ros_context
 
 NAVIGATE_TO_POSE = "navigate_to_pose"
+CANCEL_TIMEOUT_S = 5.0  # s (wall) CbAbortNavigation waits for the server's answer to a cancel-all
 SPIN = "spin"
 BACKUP = "backup"
 DRIVE_ON_HEADING = "drive_on_heading"
@@ -83,6 +88,13 @@ class ClNav2Z(ISmaccClient):
         for key, action_type in ACTION_TYPES.items():
             self._clients[key] = RosActionClient(ctx.node, action_type, self.action_names[key])
         self._cmd_vel = ctx.node.create_publisher(Twist, self.cmd_vel_topic, 10)
+        # Created with the machine, so that it is discovered before CbAbortNavigation needs it.
+        self._cancel_every_goal = ctx.node.create_client(CancelGoal, self.cancel_service_name)
+
+    @property
+    def cancel_service_name(self) -> str:
+        """The navigate_to_pose server's cancel service (``<action>/_action/cancel_goal``)."""
+        return f"{self.action_names[NAVIGATE_TO_POSE]}/_action/cancel_goal"
 
     def publish_twist(self, linear_x: float = 0.0, angular_z: float = 0.0) -> None:
         """Command a velocity (m/s, rad/s) on ``cmd_vel_topic``; no arguments means stop."""
@@ -161,6 +173,20 @@ class ClNav2Z(ISmaccClient):
     def cancel_navigation(self) -> None:
         """Cancel every NavigateToPose goal this client sent that is still running."""
         self._clients[NAVIGATE_TO_POSE].cancel_all()
+
+    def cancel_every_navigation_goal(self, on_answer: Callable[[int | None], None]) -> None:
+        """Ask the navigate_to_pose server to cancel every goal, whoever sent it (CancelGoal with a
+        zero goal id and stamp). ``on_answer`` runs on the executor with the number of goals the
+        server is canceling, or None when the server is not there or did not answer within
+        CANCEL_TIMEOUT_S s. The request is sent again while unanswered (ros_tools.runtime.requests).
+        """
+        if not self._cancel_every_goal.service_is_ready():
+            on_answer(None)
+            return
+        answer = spawn(self.node, call_service(self.node, self._cancel_every_goal, CancelGoal.Request(),
+                                               CANCEL_TIMEOUT_S))
+        answer.add_done_callback(lambda done: on_answer(
+            None if done.result() is None else len(done.result().goals_canceling)))
 
 
 def _default_message(ticket: GoalTicket) -> str:

@@ -132,6 +132,7 @@ def test_relative_motions_send_the_behavior_server_goals(stack) -> None:  # type
     spins = [g.target_yaw for g in fake.logs["spin"].goals]
     assert spins == [pytest.approx(math.pi / 2), pytest.approx(math.pi, abs=1e-3)]  # relative, then absolute
     assert transition_keys(runtime)[-1] == ("StAbort", "StDone", "SUCCESS")
+    assert runtime.sm.transition_log[-1].event.goals_canceling == 0  # the server answered the cancel-all
 
 
 def test_set_initial_pose_succeeds_once_amcl_reports_it(stack) -> None:  # type: ignore[no-untyped-def]
