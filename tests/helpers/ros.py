@@ -64,6 +64,19 @@ def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condi
         raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
 
 
+def stop_spinning(executor: Executor, thread: Any, *nodes: Any) -> None:
+    """Stop an executor spinning in ``thread``, wait for the thread, then destroy ``nodes``.
+
+    Why this order: a node destroyed while the thread still builds its wait set makes rclpy raise
+    InvalidHandle ("cannot use Destroyable") in that thread (seen in CI as an unhandled thread
+    exception at a system test's teardown).
+    """
+    executor.shutdown()
+    thread.join(timeout=5.0)
+    for node in nodes:
+        node.destroy_node()
+
+
 def connected(endpoints: Iterable[Any]) -> Callable[[], bool]:
     """A predicate: every subscription has a matched publisher and every publisher a subscription.
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from nav_stack.ros.goal_cli import load_waypoints
-from tests.helpers.ros import REPO, start_python, stop_process, wait_until
+from tests.helpers.ros import REPO, start_python, stop_process, stop_spinning, wait_until
 
 
 def test_example_waypoints_load():
@@ -48,9 +48,7 @@ def navigator(ros_context) -> Iterator[object]:
     try:
         yield node
     finally:
-        executor.shutdown()
-        node.destroy_node()
-        thread.join(timeout=5.0)
+        stop_spinning(executor, thread, node)
 
 
 @pytest.mark.ros

@@ -39,7 +39,7 @@ from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.requests import call_until_answered, poll
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import REPO
+from tests.helpers.ros import REPO, stop_spinning
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 AMCL_POSE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
@@ -151,9 +151,7 @@ def nav(stack, ros_context) -> Iterator[MiniNavigator]:
         yield MiniNavigator(node)
     finally:
         print(stack.output(200))  # shown by pytest when the test fails
-        executor.shutdown()
-        node.destroy_node()
-        thread.join(timeout=5.0)
+        stop_spinning(executor, thread, node)
 
 
 def test_basic_navigator_session(nav):

@@ -28,6 +28,7 @@ from rclpy.node import Node
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+from tests.helpers.ros import stop_spinning
 from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
@@ -86,9 +87,7 @@ def client(stack, ros_context) -> Iterator[Client]:
         yield c
     finally:
         print(stack.output(200))  # shown by pytest when the test fails
-        executor.shutdown()
-        node.destroy_node()
-        thread.join(timeout=5.0)
+        stop_spinning(executor, thread, node)
 
 
 def _sim_seconds(duration: Any) -> float:

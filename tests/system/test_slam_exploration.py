@@ -64,7 +64,7 @@ from tests.helpers.nav_ros_slam_stack import (
     saved_map_specs,
     sim_spec,
 )
-from tests.helpers.ros import SYSTEM_RTF, wait_until
+from tests.helpers.ros import SYSTEM_RTF, stop_spinning, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 #: The processes the simulator waits for in lockstep (their run_nodes roles, and this test's probe).
@@ -137,9 +137,7 @@ class Probe:
 
     def close(self) -> None:
         self.lockstep.destroy()
-        self.executor.shutdown()
-        self.node.destroy_node()
-        self._thread.join(timeout=5.0)
+        stop_spinning(self.executor, self._thread, self.node)
 
 
 @pytest.mark.timeout(EXPLORE_WALL_S + 240)  # phase 2: a new stack and one goal, about 60 s
