@@ -64,6 +64,10 @@ class BehaviorServerParams:
     local_costmap_topic: str = "local_costmap/costmap_raw"
     local_footprint_topic: str = "local_costmap/published_footprint"
     enable_stamped_cmd_vel: bool = False
+    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
+    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
+    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
+    action_server_result_timeout: float = 10.0
 
 
 class _BehaviorRun(GoalRun):
@@ -102,7 +106,8 @@ class BehaviorServer(NavLifecycleNode):
             action_type, tf_error = BEHAVIOR_TYPES[kind]
             self._servers.append(ActionServer(
                 self, action_type, name, partial(self._execute, kind=kind, tf_error=tf_error),
-                goal_callback=self._accept_goal, cancel_callback=self._cancel))
+                goal_callback=self._accept_goal, cancel_callback=self._cancel,
+                result_timeout=round(p.action_server_result_timeout)))
 
     def activate(self) -> None:
         self._timer = self.create_timer(1.0 / self.behavior_params.cycle_frequency, self._cycle)

@@ -77,6 +77,10 @@ class ControllerServerParams:
     min_x_velocity_threshold: float = 0.0001  # m/s; odometry below it reads as 0
     min_theta_velocity_threshold: float = 0.0001  # rad/s
     costmap_update_timeout: float = 0.30  # s a goal waits for a first local costmap
+    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
+    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
+    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
+    action_server_result_timeout: float = 10.0
     enable_stamped_cmd_vel: bool = False
     odom_topic: str = "odom"
     # Not in Nav2: the robot's outline "[[x, y], ...]" (m, robot frame) that RPP and the rotation
@@ -139,7 +143,8 @@ class ControllerServer(NavLifecycleNode):
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
         self._response = ResponseMonitor(self, p.response_timeout, p.battery_topic)
         self._server = ActionServer(self, FollowPath, "follow_path", self._execute,
-                                    goal_callback=self._accept_goal, cancel_callback=self._cancel)
+                                    goal_callback=self._accept_goal, cancel_callback=self._cancel,
+                                    result_timeout=round(p.action_server_result_timeout))
 
     def activate(self) -> None:
         run_transition(self.costmap_node, "activate")

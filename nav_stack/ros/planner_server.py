@@ -69,6 +69,10 @@ class PlannerServerParams:
     expected_planner_frequency: float = 1.0  # Hz; a slower plan is logged as a warning
     planner_plugins: tuple[str, ...] = ("GridBased",)
     costmap_update_timeout: float = 1.0  # s a goal waits for a first costmap before TIMEOUT
+    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
+    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
+    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
+    action_server_result_timeout: float = 10.0
 
 
 class PlannerServer(NavLifecycleNode):
@@ -110,7 +114,8 @@ class PlannerServer(NavLifecycleNode):
 
     def _action(self, action_type: Any, name: str, execute: Any) -> ActionServer:
         return ActionServer(self, action_type, name, execute, goal_callback=self._accept_goal,
-                            cancel_callback=lambda _: CancelResponse.ACCEPT)
+                            cancel_callback=lambda _: CancelResponse.ACCEPT,
+                            result_timeout=round(self.params.action_server_result_timeout))
 
     def activate(self) -> None:
         run_transition(self.costmap_node, "activate")
