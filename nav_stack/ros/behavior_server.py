@@ -40,7 +40,7 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
-from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 
 #: plugin type -> (action type, TF_ERROR code)
 BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
@@ -64,10 +64,7 @@ class BehaviorServerParams:
     local_costmap_topic: str = "local_costmap/costmap_raw"
     local_footprint_topic: str = "local_costmap/published_footprint"
     enable_stamped_cmd_vel: bool = False
-    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
-    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
-    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
-    action_server_result_timeout: float = 10.0
+    action_server_result_timeout: float = RESULT_TIMEOUT_S  # s a finished goal's result is kept
 
 
 class _BehaviorRun(GoalRun):

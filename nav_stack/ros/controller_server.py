@@ -60,7 +60,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from nav_stack.ros.response_monitor import ResponseMonitor
 from nav_stack.ros.selectors import Selector
-from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 
 Code = ControllerErrorCode
 
@@ -77,10 +77,7 @@ class ControllerServerParams:
     min_x_velocity_threshold: float = 0.0001  # m/s; odometry below it reads as 0
     min_theta_velocity_threshold: float = 0.0001  # rad/s
     costmap_update_timeout: float = 0.30  # s a goal waits for a first local costmap
-    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
-    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
-    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
-    action_server_result_timeout: float = 10.0
+    action_server_result_timeout: float = RESULT_TIMEOUT_S  # s a finished goal's result is kept
     enable_stamped_cmd_vel: bool = False
     odom_topic: str = "odom"
     # Not in Nav2: the robot's outline "[[x, y], ...]" (m, robot frame) that RPP and the rotation

@@ -50,7 +50,7 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.selectors import Selector
-from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.waiting import wait_for
 
 #: plugin type (last part of ``<id>.plugin``) -> (parameter dataclass, planner class)
@@ -69,10 +69,7 @@ class PlannerServerParams:
     expected_planner_frequency: float = 1.0  # Hz; a slower plan is logged as a warning
     planner_plugins: tuple[str, ...] = ("GridBased",)
     costmap_update_timeout: float = 1.0  # s a goal waits for a first costmap before TIMEOUT
-    # s a finished goal's result stays on the server (Nav2's default). rclpy's own is 900 s: with a
-    # new FollowPath or ComputePathToPose goal each replan, every path of the last 15 min was kept
-    # (the nav2 process grew 137 -> 260 MiB over 30 goals in turtlebot3_house).
-    action_server_result_timeout: float = 10.0
+    action_server_result_timeout: float = RESULT_TIMEOUT_S  # s a finished goal's result is kept
 
 
 class PlannerServer(NavLifecycleNode):

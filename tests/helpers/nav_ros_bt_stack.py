@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from tests.helpers.ros import REPO, SYSTEM_RTF
+from tests.helpers.ros import REPO, SYSTEM_RTF, wait_until
 
 READY = "Nav2 is ready"
 
@@ -85,8 +85,5 @@ def yaw_of(q: Any) -> float:
 
 
 def wait(predicate: Callable[[], bool], timeout: float, what: str) -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out after {timeout:.0f} s waiting for {what}")
-        time.sleep(0.05)
+    """Poll ``predicate()`` until true; fail after ``timeout`` s (tests.helpers.ros.wait_until)."""
+    wait_until(predicate, timeout, what, step=0.05)

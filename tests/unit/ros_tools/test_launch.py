@@ -57,7 +57,9 @@ def test_a_process_that_exits_right_after_its_ready_line_was_ready(monkeypatch: 
     pump = _Running._pump
 
     def lagging_pump(self: _Running, prefix: str, out: Any) -> None:
-        time.sleep(0.5)  # longer than the launcher's 0.1 s readiness poll
+        # The lag itself, not a wait for a condition: longer than the launcher's 0.1 s readiness poll,
+        # so the launcher sees the exit before the reader has read the ready line.
+        time.sleep(0.5)
         pump(self, prefix, out)
 
     monkeypatch.setattr(_Running, "_pump", lagging_pump)
