@@ -347,6 +347,9 @@ class BtNavigator(NavLifecycleNode):
             if code:
                 failure = self.ros.failure(name)
                 return code, failure.describe() if failure else f"{name} = {code}"
+        latest = self.ros.latest_failure
+        if latest is not None:  # e.g. a goal never acknowledged: a leaf failed, no server did
+            return UNKNOWN, f"the behavior tree failed: {latest.describe()}"
         return UNKNOWN, "the behavior tree failed (no server reported an error code)"
 
     # -- output -------------------------------------------------------------------------------------

@@ -65,6 +65,7 @@ class FakeNav2(Node):
         self.follow_codes: list[int] = []
         self.follow_steps = 30
         self.hold_follow = False
+        self.rejecting: set[str] = set()  # action names whose goals are rejected
         self._follow_generation = 0
         self.goals: dict[str, list[Any]] = {}
         self.cancels: dict[str, int] = {}
@@ -94,7 +95,7 @@ class FakeNav2(Node):
         def on_goal(goal: Any) -> GoalResponse:
             with self._lock:
                 self.goals.setdefault(name, []).append(goal)
-            return GoalResponse.ACCEPT
+            return GoalResponse.REJECT if name in self.rejecting else GoalResponse.ACCEPT
 
         def on_cancel(_handle: Any) -> CancelResponse:
             with self._lock:

@@ -4,8 +4,10 @@ Semantics, as in Nav2 Jazzy, without ever blocking a tick:
 
 * first tick: build the goal from the ports and send it (after waiting, across ticks, up to
   ``wait_for_service_timeout`` for the server to appear); RUNNING.
-* the server must acknowledge within ``server_timeout`` ms (wall clock) or the leaf fails
-  ("Timed out while waiting for action server to acknowledge goal request"); a rejected goal fails.
+* the server must acknowledge within ``server_timeout`` ms or the leaf fails ("Timed out while
+  waiting for action server to acknowledge goal request"); a rejected goal fails. The time is the
+  node's (sim time under ``use_sim_time``, see ``BtRosContext``); the wait for the server to
+  appear is wall time.
 * while the goal runs, ``updated_goal()`` may return a new goal (FollowPath does when the planner
   produced a new path): it is sent and the server preempts the old one.
 * SUCCEEDED → SUCCESS and ``error_code_id`` ← 0; ABORTED → FAILURE and ``error_code_id`` ← the
@@ -96,9 +98,6 @@ class BtActionNode(StatefulActionNode):
     def server_name(self) -> str:
         return str(self.get_input("server_name"))
 
-    def _wall(self) -> float:
-        return self.ros.wall_clock()
-
     def _fail(self, message: str, code: int = 0) -> NodeStatus:
         name = code_name(self.action_type.Result, code) if code else ""
         failure = LeafFailure(self.server_name, code, name, message)
@@ -114,7 +113,7 @@ class BtActionNode(StatefulActionNode):
         client = self.ros.action_client(self.action_type, self.server_name)
         self._goal = goal
         self._goal_future = client.send_goal_async(goal)
-        self._sent_at = self._wall()
+        self._sent_at = self.ros.clock()
         self._phase = _Phase.SENT
 
     # -- StatefulActionNode --------------------------------------------------------------------------
@@ -130,7 +129,7 @@ class BtActionNode(StatefulActionNode):
             self._send(goal)
         else:
             wait_ms = int(self.config.blackboard.get("wait_for_service_timeout", DEFAULT_WAIT_FOR_SERVICE_MS))
-            self._deadline = self._wall() + wait_ms / 1000.0
+            self._deadline = self.ros.wall_clock() + wait_ms / 1000.0
             self._phase = _Phase.WAITING_FOR_SERVER
         return NodeStatus.RUNNING
 
@@ -138,7 +137,7 @@ class BtActionNode(StatefulActionNode):
         if self._phase is _Phase.WAITING_FOR_SERVER:
             if self.ros.action_client(self.action_type, self.server_name).server_is_ready():
                 self._send(self._goal)
-            elif self._wall() > self._deadline:
+            elif self.ros.wall_clock() > self._deadline:
                 return self._fail(f"action server '{self.server_name}' is not available")
             return NodeStatus.RUNNING
         if self._phase is _Phase.SENT:
@@ -156,7 +155,7 @@ class BtActionNode(StatefulActionNode):
         assert self._goal_future is not None
         if not self._goal_future.done():
             timeout_ms = int(self.get_input_or("server_timeout", DEFAULT_SERVER_TIMEOUT_MS))
-            if (self._wall() - self._sent_at) * 1000.0 <= timeout_ms:
+            if (self.ros.clock() - self._sent_at) * 1000.0 <= timeout_ms:
                 return NodeStatus.RUNNING
             self._goal_future.add_done_callback(cancel_if_accepted)
             self._goal_future = None

@@ -10,7 +10,13 @@ trees are rebuilt per goal, their clients are not.
 
 ``failures`` keeps, per ``error_code_id`` blackboard key, the last failure a leaf saw (server,
 code, code name, message), so the navigator can put the failing server's code and message in
-its own result.
+its own result; the latest one also when no server set a code (a goal never acknowledged).
+
+Two clocks: ``wall_clock`` (steady, s) times the wait for a server to appear, because DDS discovery
+takes wall time; ``clock`` (the node's, s: sim time under ``use_sim_time``) times a server's answer.
+Nav2 times both on the steady clock, which under lockstep at ``--rtf max`` makes a goal fail or not
+depending on how loaded the machine is: a one-second stall of a busy process is a second of wall
+time but no sim time at all, since the simulator waits for it.
 """
 
 from __future__ import annotations
@@ -55,15 +61,18 @@ class BtRosContext:
     """Collaborators injected into every ROS-backed leaf (``factory.register(..., ros=ctx)``)."""
 
     def __init__(self, node: Node, frames: Frames | None = None,
-                 wall_clock: Callable[[], float] | None = None) -> None:
+                 wall_clock: Callable[[], float] | None = None,
+                 clock: Callable[[], float] | None = None) -> None:
         import time
 
         self.node = node
         self.frames = frames
         self.wall_clock = wall_clock or time.monotonic
+        self.clock = clock or (lambda: node.get_clock().now().nanoseconds * 1e-9)
         self._actions: dict[tuple[type, str], ActionClient] = {}
         self._services: dict[tuple[type, str], Client] = {}
         self._failures: dict[str, LeafFailure] = {}
+        self._latest: LeafFailure | None = None
         self._lock = threading.Lock()
         self.global_frame = "map"
         self.robot_base_frame = "base_link"
@@ -89,14 +98,21 @@ class BtRosContext:
     def record_failure(self, key: str, failure: LeafFailure) -> None:
         """Remember the last failure written through error-code blackboard key ``key``."""
         self._failures[key] = failure
+        self._latest = failure
 
     def failure(self, key: str) -> LeafFailure | None:
         """The last failure recorded for ``key``."""
         return self._failures.get(key)
 
+    @property
+    def latest_failure(self) -> LeafFailure | None:
+        """The failure recorded last, whatever its key (None since :meth:`clear_failures`)."""
+        return self._latest
+
     def clear_failures(self) -> None:
         """Forget all failures (at the start of each navigation)."""
         self._failures.clear()
+        self._latest = None
 
     def destroy(self) -> None:
         """Destroy every cached client."""

@@ -2,7 +2,8 @@
 
 The request goes out on the first tick; the leaf stays RUNNING until the response arrives and
 fails when the service does not appear within ``wait_for_service_timeout`` or does not answer
-within ``server_timeout`` ms (wall clock), as Nav2's "Node timed out while executing service call".
+within ``server_timeout`` ms (the node's clock, see ``BtRosContext``), as Nav2's "Node timed out
+while executing service call".
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ class BtServiceNode(StatefulActionNode):
 
     def _send(self) -> None:
         self._future = self._client().call_async(self.make_request())
-        self._sent_at = self.ros.wall_clock()
+        self._sent_at = self.ros.clock()
 
     def on_start(self) -> NodeStatus:
         self._future = None
@@ -79,7 +80,7 @@ class BtServiceNode(StatefulActionNode):
             self._future = None
             return NodeStatus.SUCCESS
         timeout_ms = int(self.get_input_or("server_timeout", DEFAULT_SERVER_TIMEOUT_MS))
-        if (self.ros.wall_clock() - self._sent_at) * 1000.0 > timeout_ms:
+        if (self.ros.clock() - self._sent_at) * 1000.0 > timeout_ms:
             self._future = None
             service = self.get_input("service_name")
             return self._fail(f"service '{service}' did not answer within {timeout_ms} ms")

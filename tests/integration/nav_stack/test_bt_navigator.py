@@ -18,7 +18,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.ros.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
-from nav_stack.ros.bt_nodes.navigators import TF_ERROR, has_robot_pose
+from nav_stack.ros.bt_nodes.navigators import TF_ERROR, UNKNOWN, has_robot_pose
 from nav_stack.ros.qos import LATCHED
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_rig import NAVIGATOR_OVERRIDES, Rig, start_rig, stop_rig
@@ -119,6 +119,17 @@ def test_controller_failures_run_the_recoveries_and_report_the_controller_code(r
     assert rig.fake.count("spin") >= 1 and rig.fake.count("backup") >= 1 and rig.fake.count("wait") >= 1
     assert rig.fake.calls.get("local_costmap/clear_entirely_local_costmap", 0) >= 1
     assert max(f.number_of_recoveries for f in rig.feedback) >= 3
+
+
+def test_a_leaf_failure_without_an_error_code_is_named_in_the_result(rig):
+    """A rejected goal sets no server error code: the result still says which leaf failed, and how."""
+    rig.fake.rejecting.add("follow_path")
+    client = rig.action_client(NavigateToPose, "navigate_to_pose")
+    result = rig.result(rig.send(client, nav_goal(1.0, 0.0)))
+
+    assert result.status == GoalStatus.STATUS_ABORTED
+    assert result.result.error_code == UNKNOWN
+    assert "the goal was rejected by 'follow_path'" in result.result.error_msg, result.result.error_msg
 
 
 def test_cancel_halts_the_tree_and_cancels_the_controller_goal(rig):
