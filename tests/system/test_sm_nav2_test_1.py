@@ -112,3 +112,15 @@ def test_waypoint_outside_the_map_aborts_and_says_why(tmp_path: Path) -> None:
     abort_line = next(line for line in done.stdout.splitlines() if "StFinalState [ABORT]" in line)
     assert "error_code" in abort_line  # the Nav2 error code and message reach the output
     assert "result: ABORT" in done.stdout
+    # --quiet hides the stack's output, but not the warnings that explain a failure
+    problems = done.stdout.split("[demo] the stack's last", 1)[-1]
+    assert "[bt_navigator]: navigate_to_pose: goal failed" in problems, done.stdout[-5000:]
+
+
+@pytest.mark.timeout(900)
+def test_demo_runs_the_mission_with_a_tb4(tmp_path: Path) -> None:
+    """``--robot tb4`` reaches nav-bringup: the TurtleBot4's simulation and parameters do the same mission."""
+    done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--robot", "tb4", "--no-report")
+    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
+    assert "--robot tb4" in done.stdout.splitlines()[0]  # "[demo] starting the stack: ..."
+    assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]

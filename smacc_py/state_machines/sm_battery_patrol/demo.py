@@ -8,6 +8,7 @@ wall-clock timeout, 3 when the stack died or could not start, 130 on Ctrl-C.
 Examples::
 
     sm-battery-patrol --rtf 5 --cycles 2
+    sm-battery-patrol --robot tb4
     sm-battery-patrol --low-threshold 0.95 --charged-threshold 0.99   # recharge about once per round
 """
 
@@ -40,6 +41,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                              "lockstep with the stack)")
     parser.add_argument("--cycles", type=int, default=2, help="patrol rounds (location1..4) to complete")
     parser.add_argument("--timeout", type=float, default=900.0, help="wall-clock limit (s)")
+    parser.add_argument("--robot", help="the simulated robot, as nav-bringup's --robot (waffle, burger, tb4; "
+                                        "default: nav-bringup's, waffle)")
     default_params = DEFAULT_PARAMS if DEFAULT_PARAMS.exists() else None
     parser.add_argument("--params-file", type=Path, default=default_params,
                         help="ros__parameters YAML for node SmBatteryPatrol")
@@ -154,7 +157,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     use_sim_params = options.sim_params is not None and not options.bringup
     sim_params = ["--sim-params", str(options.sim_params)] if use_sim_params else []
-    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol"), *sim_params,
+    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol", options.robot), *sim_params,
                *options.bringup_arg]
     try:
         say(f"[patrol] starting the stack: {' '.join(command)}")

@@ -9,6 +9,7 @@ timeout, 3 when a process of the stack died (or could not start), 130 on Ctrl-C.
 Examples::
 
     navsuite-demo --rtf 1                       # real time, to watch in navsuite-viewer
+    navsuite-demo --robot tb4                   # the same mission with a TurtleBot4
     navsuite-demo --waypoint1 5.0,3.0,1.57      # outside the map: ABORT, and the output says why
 
 The run is recorded to ``<report>.mcap`` (the report's topics plus the robot's sensors, odometry,
@@ -29,6 +30,7 @@ import signal
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -53,18 +55,21 @@ def parse_pose(text: str) -> list[float]:
     return values
 
 
-def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None) -> list[str]:
+def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None,
+                    robot: str | None = None) -> list[str]:
     """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
     ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
 
     ``machine`` names the state machine that will join lockstep: the simulator waits for it before
-    its first step, so the mission starts at the same sim time on every run.
+    its first step, so the mission starts at the same sim time on every run. ``robot`` is passed on
+    as ``--robot`` (nav-bringup checks the name and picks that robot's simulation and parameters).
     """
+    robot_args = ["--robot", robot] if robot else []
     if custom:
-        return [*shlex.split(custom), "--rtf", rtf]
+        return [*shlex.split(custom), *robot_args, "--rtf", rtf]
     exe = shutil.which("nav-bringup")
     base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, "--rtf", rtf, *(["--participant", machine] if machine else [])]
+    return [*base, *robot_args, "--rtf", rtf, *(["--participant", machine] if machine else [])]
 
 
 def parse_rtf(text: str) -> str:
@@ -122,6 +127,8 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="upper bound on the real-time factor (default max: as fast as the stack "
                              "keeps up; the simulator runs in lockstep with it); 1 to watch in the viewer")
     parser.add_argument("--timeout", type=float, default=600.0, help="wall-clock limit (s) for the mission")
+    parser.add_argument("--robot", help="the simulated robot, as nav-bringup's --robot (waffle, burger, tb4; "
+                                        "default: nav-bringup's, waffle)")
     parser.add_argument("--waypoint1", type=parse_pose, help="x,y,yaw of the first goal (map frame)")
     parser.add_argument("--waypoint2", type=parse_pose, help="x,y,yaw of the second goal (map frame)")
     parser.add_argument(
@@ -142,24 +149,41 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
+PROBLEM_LEVELS = ("[WARN]", "[ERROR]", "[FATAL]")
+
+
 class _Output:
-    """Serialised printing; with ``quiet`` the stack's lines are kept (last 200) instead of shown."""
+    """Serialised printing. With ``quiet`` the stack's lines are kept instead of shown: the last 200
+    (printed if the stack does not come up) and, apart, the last 20 warnings and errors (printed if
+    the mission fails, so a quiet run still says why)."""
 
     def __init__(self, quiet: bool) -> None:
         self.quiet = quiet
         self.lock = threading.Lock()
-        self.kept: list[str] = []
+        self.kept: deque[str] = deque(maxlen=200)
+        self.problems: deque[str] = deque(maxlen=20)
 
     def stack(self, line: str) -> None:
-        if self.quiet:
-            with self.lock:
-                self.kept = [*self.kept[-199:], line]
-        else:
+        if not self.quiet:
             self.say(line)
+            return
+        with self.lock:
+            self.kept.append(line)
+            if any(level in line for level in PROBLEM_LEVELS):
+                self.problems.append(line)
 
     def say(self, line: str) -> None:
         with self.lock:
             print(line, flush=True)
+
+    def show_problems(self) -> None:
+        """Print the kept warnings and errors (nothing when there were none)."""
+        with self.lock:
+            problems = list(self.problems)
+        if problems:
+            self.say(f"[demo] the stack's last {len(problems)} warnings and errors:")
+            for line in problems:
+                self.say(line)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -177,7 +201,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     wall_start = time.monotonic()
     try:
-        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1")
+        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1", options.robot)
         out.say(f"[demo] starting the stack: {' '.join(command)}")
         try:
             launcher.start(
@@ -192,7 +216,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
         except LaunchError as error:
             if options.quiet:
-                for line in out.kept[-40:]:
+                for line in list(out.kept)[-40:]:
                     out.say(line)
             out.say(f"[demo] FAILED: the stack did not come up: {error}")
             return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
@@ -201,7 +225,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if options.report is not None:
             options.report.parent.mkdir(parents=True, exist_ok=True)
             launcher.start([recorder_spec(options.report)])
-        return run_mission(options, launcher, out.say, interrupted, wall_start)
+        code = run_mission(options, launcher, out.say, interrupted, wall_start)
+        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED) and options.quiet:
+            out.show_problems()
+        return code
     finally:
         launcher.shutdown()  # SIGINT first: the recorder closes its file
         for sig, handler in previous.items():
