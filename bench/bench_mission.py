@@ -21,7 +21,7 @@ The old wall-clock comparison stays possible: ``--rtf 1 2 --no-lockstep`` runs n
 ``--no-lockstep`` (through the demo's ``--bringup`` option) at those factors.
 
     .venv/bin/python -m bench.bench_mission [--rtf max] [--runs 10] [--load 0 2] [--no-lockstep]
-                                            [--note TEXT] [--no-record]
+                                            [--robot tb4] [--note TEXT] [--no-record]
 """
 
 from __future__ import annotations
@@ -83,9 +83,13 @@ class Run:
                 f"rtf {rtf} (first to last transition {transit}) - {self.outcome}")
 
 
-def demo_command(rtf: str, lockstep: bool = True, python: str = sys.executable) -> list[str]:
-    """``navsuite-demo --rtf R --quiet --no-report``; without lockstep nav-bringup gets ``--no-lockstep``."""
+def demo_command(rtf: str, lockstep: bool = True, python: str = sys.executable,
+                 robot: str | None = None) -> list[str]:
+    """``navsuite-demo --rtf R --quiet --no-report [--robot NAME]``; without lockstep nav-bringup gets
+    ``--no-lockstep``."""
     command = [python, "-m", DEMO_MODULE, "--rtf", rtf, "--quiet", "--no-report"]
+    if robot:
+        command += ["--robot", robot]
     if not lockstep:
         command += ["--bringup", f"{shlex.quote(python)} -m nav_stack.ros.bringup --no-lockstep"]
     return command
@@ -203,6 +207,7 @@ def main() -> int:
                         help="busy processes per group (default: 0 then 2: idle, then both cores loaded)")
     parser.add_argument("--no-lockstep", dest="lockstep", action="store_false", default=True,
                         help="nav-bringup --no-lockstep: the simulator follows the wall clock")
+    parser.add_argument("--robot", help="navsuite-demo --robot (waffle, burger, tb4; default waffle)")
     parser.add_argument("--note", default="", help="appended to every recorded row's note")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
@@ -213,7 +218,9 @@ def main() -> int:
     summary: list[str] = []
     for rtf in args.rtf:
         mode = f"rtf {rtf}, {'lockstep' if args.lockstep else 'no lockstep'}"
-        command = demo_command(rtf, args.lockstep)
+        if args.robot:
+            mode += f", robot {args.robot}"
+        command = demo_command(rtf, args.lockstep, robot=args.robot)
         print(f"mission: {' '.join(shlex.quote(c) for c in command)}", flush=True)
         reference: tuple[str, ...] | None = None
         sequences_seen: set[tuple[str, ...]] = set()

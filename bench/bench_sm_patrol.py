@@ -11,7 +11,8 @@ one CI run in six; this benchmark counts such failures over many runs, idle and 
 Per load group it records the success rate, how many runs visited the locations in the most common
 order, and the median wall and sim time of the successful runs.
 
-    .venv/bin/python -m bench.bench_sm_patrol [--runs 10] [--load 0 2] [--note TEXT] [--no-record]
+    .venv/bin/python -m bench.bench_sm_patrol [--runs 10] [--load 0 2] [--robot tb4] [--note TEXT]
+                                              [--no-record]
 """
 
 from __future__ import annotations
@@ -40,10 +41,12 @@ class PatrolRun:
     wall_s: float  # the whole command's, bringup included
 
 
-def patrol_command(python: str = sys.executable, timeout_s: float = 240.0) -> list[str]:
-    """The system test's command (tests/system/test_battery_patrol.py)."""
+def patrol_command(python: str = sys.executable, timeout_s: float = 240.0,
+                   robot: str | None = None) -> list[str]:
+    """The system test's command (tests/system/test_battery_patrol.py), with ``--robot`` if given."""
     return [python, "-m", DEMO_MODULE, "--rtf", "max", "--cycles", "2", "--low-threshold", "0.95",
-            "--charged-threshold", "0.99", "--timeout", str(timeout_s)]
+            "--charged-threshold", "0.99", "--timeout", str(timeout_s),
+            *(["--robot", robot] if robot else [])]
 
 
 def parse_patrol(output: str, wall_s: float) -> PatrolRun:
@@ -79,6 +82,7 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=10, help="runs per load group")
     parser.add_argument("--load", type=int, nargs="+", default=[0, 2],
                         help="busy processes per group (0 = idle)")
+    parser.add_argument("--robot", help="sm-battery-patrol --robot (waffle, burger, tb4; default waffle)")
     parser.add_argument("--note", default="", help="appended to every recorded row's note")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
@@ -87,11 +91,11 @@ def main() -> int:
     domain = claim_domain_id()
     groups: dict[str, list[PatrolRun]] = {}
     for load in args.load:
-        label = load_label(load)
+        label = load_label(load) + (f", robot {args.robot}" if args.robot else "")
         with busy_load(load):
             runs = []
             for index in range(args.runs):
-                mission = run_mission(patrol_command(), domain)
+                mission = run_mission(patrol_command(robot=args.robot), domain)
                 run = parse_patrol(mission.output, mission.wall_s)
                 runs.append(run)
                 print(f"patrol ({label}) {index + 1}/{args.runs}: {'ok  ' if run.succeeded else 'FAIL'} "
