@@ -22,7 +22,7 @@ from ros_tools.report.render import TRUTH_COLOR
 from tests.helpers.bag_replay import BAG_CLI, TopicCounter, bag_info, play_and_count
 from tests.helpers.bag_sim import PROCESS_TIMEOUT, record_sim
 from tests.helpers.report_pixels import distinct_colors, load_rgb, pixels_near
-from tests.helpers.ros import spin_until, start_python, stop_process
+from tests.helpers.ros import spin_until, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -159,6 +159,27 @@ def test_record_unknown_topic_is_a_one_line_error(tmp_path):
     assert code == 1
     lines = output.strip().splitlines()
     assert len(lines) == 1 and "unknown topic: /no_such_topic (no publisher)" in lines[0], output
+
+
+def test_record_stops_on_sigint_with_a_closed_file_and_no_traceback(tmp_path, ros_context):
+    """Ctrl-C (or a supervisor's SIGINT) is the ordinary way to end ``record``: exit 0, a summary line,
+    a readable file, and no exception printed, wherever the signal lands (often in topic discovery)."""
+    out = tmp_path / "stopped.mcap"
+    recorder = start_python(BAG_CLI, ["record", "-a", "-o", str(out)])
+    probe = Node("record_probe", context=ros_context)
+    try:
+        expected = f"bag_recorder_{recorder.pid}"
+        wait_until(lambda: expected in probe.get_node_names() or recorder.poll() is not None,
+                   PROCESS_TIMEOUT, "the recorder's node on the graph")
+        output = stop_process(recorder, timeout=PROCESS_TIMEOUT)
+    finally:
+        probe.destroy_node()
+        stop_process(recorder)
+    assert recorder.returncode == 0, output
+    assert "Traceback" not in output and "Exception" not in output, output
+    assert "recorded" in output.splitlines()[-1], output
+    with BagReader(out) as reader:
+        assert not reader.truncated  # closed with its summary
 
 
 def test_report_from_the_recording_shows_the_driven_trajectory(recording, tmp_path):
