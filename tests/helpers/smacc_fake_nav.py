@@ -13,6 +13,8 @@ What the world does:
 * bonds: each ``ClNav2Z.subscribe_bonds`` (one per CbWaitNav2Nodes entry) takes the next entry of
   ``Nav2Script.bonds``: True, Nav2's servers heartbeat on every poll; False, silence (the behavior times
   out). Past the script, Nav2 is up.
+* AMCL: each initial pose CpAmcl publishes comes back at once as AMCL's estimate, unless it was sent
+  before ``Nav2Script.amcl_silent_until_s`` (machine clock; ``math.inf``: AMCL never answers).
 * actions: a goal ends on the next poll (``sm.update()``). navigate_to_pose takes the next scripted
   ``navigate`` outcome ("succeeded", "aborted", or "hold": until cancelled); past the script it succeeds
   unless the goal lies outside turtlebot3_world's map, which aborts with Nav2's GOAL_OUTSIDE_MAP (204).
@@ -92,6 +94,7 @@ class Nav2Script:
     robot_moves: bool = True
     tf_available: bool = True
     start_pose: Pose2D = (-2.0, -0.5, 0.0)
+    amcl_silent_until_s: float = 0.0
 
 
 class ManualClock:
@@ -165,7 +168,7 @@ class ScriptedNav2:
         return {
             ClNav2Z: functools.partial(ScriptedClNav2Z, self),
             CpPose: functools.partial(ScriptedCpPose, self),
-            CpAmcl: ScriptedCpAmcl,
+            CpAmcl: functools.partial(ScriptedCpAmcl, self),
             CpOdomTracker: ScriptedCpOdomTracker,
             CpPlannerSwitcher: ScriptedCpPlannerSwitcher,
             CpGoalCheckerSwitcher: ScriptedCpGoalCheckerSwitcher,

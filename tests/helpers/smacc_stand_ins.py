@@ -145,10 +145,20 @@ class ScriptedCpPose(CpPose):
 
 
 class ScriptedCpAmcl(CpAmcl):
-    """CpAmcl publishing into a RecordingPublisher."""
+    """CpAmcl publishing into a RecordingPublisher; the world's AMCL answers each initial pose with an
+    estimate at that pose, unless it was published before ``Nav2Script.amcl_silent_until_s``."""
+
+    def __init__(self, world: ScriptedNav2, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.world = world
 
     def on_initialize(self) -> None:
         self._pub = RecordingPublisher()  # type: ignore[assignment]
+
+    def set_initial_pose(self, x: float, y: float, yaw: float, *args: Any, **kwargs: Any) -> None:
+        super().set_initial_pose(x, y, yaw, *args, **kwargs)
+        if self.world.clock() >= self.world.script.amcl_silent_until_s:
+            self.on_estimate((float(x), float(y), float(yaw)))
 
 
 class ScriptedCpOdomTracker(CpOdomTracker):

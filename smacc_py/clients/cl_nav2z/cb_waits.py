@@ -10,19 +10,11 @@ import math
 import threading
 from collections.abc import Sequence
 
-from geometry_msgs.msg import PoseWithCovarianceStamped
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-
 from smacc_py.clients.cl_nav2z.client import ClNav2Z
 from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
 from smacc_py.clients.cl_nav2z.cp_pose import CpPose
-from smacc_py.clients.cl_nav2z.geometry import normalize_angle, quaternion_to_yaw
+from smacc_py.clients.cl_nav2z.geometry import normalize_angle
 from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior
-from smacc_py.ros.context import ros_context
-
-AMCL_POSE_QOS = QoSProfile(
-    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
-)
 
 
 class _OneShot(SmaccClientBehavior, ISmaccUpdatable):
@@ -117,8 +109,12 @@ class CbWaitPose(_OneShot):
 
 class CbSetInitialPose(_OneShot):
     """Publish AMCL's initial pose (x, y in m, yaw in rad, map frame) through CpAmcl, republishing every
-    ``republish_period_s`` until ``/amcl_pose`` reports a pose within ``xy_tolerance`` m and
-    ``yaw_tolerance`` rad of it (success); failure after ``timeout_s``."""
+    ``republish_period_s`` (machine clock), until AMCL's next estimate lies within ``xy_tolerance`` m
+    and ``yaw_tolerance`` rad of it (success, payload ``amcl_pose``); failure after ``timeout_s``.
+
+    Only estimates that arrive after the behavior starts count: AMCL's latched /amcl_pose from before
+    says where it thought the robot was, not that it took this pose.
+    """
 
     def __init__(
         self,
@@ -130,36 +126,27 @@ class CbSetInitialPose(_OneShot):
         yaw_tolerance: float = 0.5,
         timeout_s: float | None = 15.0,
         republish_period_s: float = 1.0,
-        amcl_pose_topic: str = "/amcl_pose",
     ) -> None:
         self.pose = (float(x), float(y), float(yaw))
         self.xy_tolerance, self.yaw_tolerance = xy_tolerance, yaw_tolerance
         self.timeout_s, self.republish_period_s = timeout_s, republish_period_s
-        self.amcl_pose_topic = amcl_pose_topic
         self.last_amcl: tuple[float, float, float] | None = None
 
     def start(self) -> None:
         self.requires_client(ClNav2Z)
         self._amcl = self.requires_component(CpAmcl)
-        ctx = ros_context(self.sm)
-        self._sub = ctx.node.create_subscription(
-            PoseWithCovarianceStamped,
-            self.amcl_pose_topic,
-            self._on_pose,
-            AMCL_POSE_QOS,
-        )
+        self._unlisten = self._amcl.listen(self._on_estimate)
         self._published_s = self.sm.now()
         self._amcl.set_initial_pose(*self.pose)
 
-    def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        self.last_amcl = (p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w))
+    def _on_estimate(self, estimate: tuple[float, float, float]) -> None:
+        self.last_amcl = estimate
         x, y, yaw = self.pose
         if (
-            math.hypot(p.x - x, p.y - y) <= self.xy_tolerance
-            and abs(normalize_angle(self.last_amcl[2] - yaw)) <= self.yaw_tolerance
+            math.hypot(estimate[0] - x, estimate[1] - y) <= self.xy_tolerance
+            and abs(normalize_angle(estimate[2] - yaw)) <= self.yaw_tolerance
         ):
-            self.finish(True, amcl_pose=self.last_amcl)
+            self.finish(True, amcl_pose=estimate)
 
     def poll(self) -> None:
         if self.sm.now() - self._published_s >= self.republish_period_s:
@@ -173,4 +160,4 @@ class CbSetInitialPose(_OneShot):
         )
 
     def on_exit(self) -> None:
-        ros_context(self.sm).node.destroy_subscription(self._sub)
+        self._unlisten()

@@ -1,26 +1,55 @@
-"""``CpAmcl``: sets AMCL's initial pose by publishing ``initialpose`` (PoseWithCovarianceStamped, QoS 10)."""
+"""``CpAmcl``: talks to AMCL. Sets its initial pose (``initialpose``, PoseWithCovarianceStamped, QoS 10)
+and hears its estimate (``amcl_pose``: reliable, transient local, depth 1, as nav2_amcl publishes it).
+
+Why the component listens too: "AMCL took the pose" is only known from AMCL's next estimate, and a
+behavior that waits for it (CbSetInitialPose) should not own a subscription of its own: the
+component is the one ROS endpoint a test substitutes.
+"""
 
 from __future__ import annotations
 
+import threading
+from collections.abc import Callable
+
 from geometry_msgs.msg import PoseWithCovarianceStamped
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
+from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
 from smacc_py.core import ISmaccComponent
 from smacc_py.ros.context import ros_context
 
 # Covariance of sm_nav2_gazebo_test_1's initial pose: σ² x = y = 0.25 m², yaw = 0.06 rad².
 DEFAULT_COVARIANCE = (0.25, 0.25, 0.06)
+AMCL_POSE_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL
+)
+
+Pose2D = tuple[float, float, float]  # x, y in m, yaw in rad (map frame)
+PoseListener = Callable[[Pose2D], None]
 
 
 class CpAmcl(ISmaccComponent):
-    """Publisher of the initial pose, in ``frame_id`` (map)."""
+    """Publisher of the initial pose in ``frame_id`` (map); listener of AMCL's estimate.
 
-    def __init__(self, topic: str = "initialpose", frame_id: str = "map") -> None:
-        self.topic, self.frame_id = topic, frame_id
-        self.published: list[tuple[float, float, float]] = []
+    Attributes:
+        published: every initial pose sent, (x, y, yaw).
+        last_estimate: AMCL's latest estimate (x, y, yaw), None before the first.
+    """
+
+    def __init__(self, topic: str = "initialpose", frame_id: str = "map",
+                 amcl_pose_topic: str = "amcl_pose") -> None:
+        self.topic, self.frame_id, self.amcl_pose_topic = topic, frame_id, amcl_pose_topic
+        self.published: list[Pose2D] = []
+        self.last_estimate: Pose2D | None = None
+        self._listeners: list[PoseListener] = []
+        self._listeners_lock = threading.Lock()  # estimates arrive on the executor's thread
 
     def on_initialize(self) -> None:
-        self._pub = ros_context(self.sm).node.create_publisher(PoseWithCovarianceStamped, self.topic, 10)
+        node = ros_context(self.sm).node
+        self._pub = node.create_publisher(PoseWithCovarianceStamped, self.topic, 10)
+        self._sub = node.create_subscription(PoseWithCovarianceStamped, self.amcl_pose_topic,
+                                             self._on_amcl_pose, AMCL_POSE_QOS)
 
     def set_initial_pose(
         self, x: float, y: float, yaw: float, covariance: tuple[float, float, float] = DEFAULT_COVARIANCE
@@ -35,3 +64,26 @@ class CpAmcl(ISmaccComponent):
         msg.pose.covariance = cov
         self._pub.publish(msg)
         self.published.append((float(x), float(y), float(yaw)))
+
+    def listen(self, listener: PoseListener) -> Callable[[], None]:
+        """Call ``listener(x, y, yaw)`` with every estimate from now on; returns the unsubscribe call."""
+        with self._listeners_lock:
+            self._listeners.append(listener)
+
+        def unsubscribe() -> None:
+            with self._listeners_lock:
+                if listener in self._listeners:
+                    self._listeners.remove(listener)
+        return unsubscribe
+
+    def on_estimate(self, estimate: Pose2D) -> None:
+        """Take one AMCL estimate: remember it and pass it to the listeners."""
+        self.last_estimate = estimate
+        with self._listeners_lock:
+            listeners = list(self._listeners)
+        for listener in listeners:
+            listener(estimate)
+
+    def _on_amcl_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        self.on_estimate((p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w)))

@@ -14,7 +14,6 @@ from smacc_py.state_machines.sm_nav2_test_1.sm_nav2_test_1 import (
 from smacc_py.state_machines.sm_nav2_test_1.states import (
     NAV2_READY,
     NEXT,
-    RETRY,
     EvMaxRetriesExceeded,
     StAllSensorsGo,
     StFinalState,
@@ -30,7 +29,6 @@ __all__ = [
     "NAV2_READY",
     "NEXT",
     "NOMINAL_TRANSITIONS",
-    "RETRY",
     "STATE_MACHINE",
     "EvMaxRetriesExceeded",
     "SmNav2Test1",

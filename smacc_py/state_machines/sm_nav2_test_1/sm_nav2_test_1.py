@@ -23,8 +23,9 @@ class SmNav2Test1Params:
         initial_pose: AMCL's initial pose, the TurtleBot3 spawn pose (-2.0, -0.5, 0).
         waypoint_1: first goal; (2.0, 0.0, 0.0) as in the tutorial.
         waypoint_2: second goal. Upstream uses (0, 0), which is the centre of turtlebot3_world's middle
-            pillar (radius 0.15 m; the robot's radius is 0.22 m), so Nav2 can never reach it. The default
-            here, (-0.55, 0.55, π), is the centre of the free square between the pillars at (-1.1, 0),
+            pillar (radius 0.15 m; the robot's radius is 0.22 m): the planner's 0.5 m tolerance makes
+            that goal succeed about 0.4 m short of it. The default here, so that the robot ends where
+            it was asked, (-0.55, 0.55, π), is the centre of the free square between the pillars at (-1.1, 0),
             (0, 0), (-1.1, 1.1) and (0, 1.1): 0.78 m from each pillar centre, 0.63 m of clearance to
             their surfaces (more than Nav2's 0.55 m inflation radius) and > 1.5 m from the walls.
     """

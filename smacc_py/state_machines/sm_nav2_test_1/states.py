@@ -1,4 +1,4 @@
-"""States of sm_nav2_test_1 (the real Jazzy package's reactions, tags and retry logic)."""
+"""States of sm_nav2_test_1: the tutorial's reactions and tags, and the Jazzy package's retry count."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ from smacc_py.clients.cl_keyboard import CbDefaultKeyboardBehavior
 from smacc_py.clients.cl_nav2z import (
     CbNavigateGlobalPosition,
     CbPureSpinning,
+    CbSetInitialPose,
     CbWaitNav2Nodes,
     ClNav2Z,
-    CpAmcl,
 )
 from smacc_py.clients.cl_ros2_timer import CbTimerCountdownOnce
 from smacc_py.core import (
@@ -48,10 +48,6 @@ class NEXT(SUCCESS):
     """The operator pressed N."""
 
 
-class RETRY(SUCCESS):
-    """Another localization attempt."""
-
-
 class EvMaxRetriesExceeded(SmaccEvent):
     """StSetInitialPose ran out of localization attempts."""
 
@@ -77,42 +73,55 @@ class StAllSensorsGo(SmaccState):
 
 
 class StSetInitialPose(SmaccState):
-    """Publish AMCL's initial pose (CpAmcl); retry up to 3 times, then abort."""
+    """Give AMCL the initial pose and wait for it to confirm (CbSetInitialPose); retry up to 3 times.
+
+    As the tutorial states it: CbSetInitialPose(-2.0, -0.5, 0.0) on OrNavigation (the pose comes from
+    the ``initial_pose`` parameter), EvCbSuccess → StNavigateToWaypoint1 (SUCCESS), EvCbFailure → this
+    state again (ABORT). The tutorial's second EvCbFailure transition, to StFinalState, can never fire
+    (the first match wins), so the attempts are counted as in the upstream package: the fifth entry
+    posts EvMaxRetriesExceeded, which goes to StFinalState (ABORT).
+    """
 
     MAX_RETRIES = 3
     MAX_ATTEMPTS = 1 + MAX_RETRIES
     ATTEMPT_COUNTER_KEY = "localization_attempt_count"
 
     reactions = [
-        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
-        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StSetInitialPose", RETRY),
-        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+        Transition(EvCbSuccess[CbSetInitialPose, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
+        Transition(EvCbFailure[CbSetInitialPose, OrNavigation], "StSetInitialPose", ABORT),
+        Transition(EvMaxRetriesExceeded[CbSetInitialPose, OrNavigation], "StFinalState", ABORT),
     ]
 
     @classmethod
     def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
+        cls.configure_orthogonal(OrNavigation, CbSetInitialPose, -2.0, -0.5, 0.0)
         cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
 
     def runtime_configure(self) -> None:
         attempts = self.get_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0) + 1
         self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, attempts)
+        behavior = self.get_client_behavior(OrNavigation, CbSetInitialPose)
+        behavior.pose = _config(self).config.initial_pose
         if attempts > self.MAX_ATTEMPTS:
             self.post_event(
-                EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation](
-                    reason=f"localization failed {self.MAX_ATTEMPTS} times"
+                EvMaxRetriesExceeded[CbSetInitialPose, OrNavigation](
+                    reason=f"AMCL did not confirm the initial pose in {self.MAX_ATTEMPTS} attempts"
                 )
             )
             return
-        x, y, yaw = _config(self).config.initial_pose
-        log.info("StSetInitialPose: attempt %d, initial pose (%.2f, %.2f, %.2f)", attempts, x, y, yaw)
-        self.requires_component(CpAmcl).set_initial_pose(x, y, yaw)
+        log.info("StSetInitialPose: attempt %d of %d, initial pose (%.2f, %.2f, %.2f)",
+                 attempts, self.MAX_ATTEMPTS, *behavior.pose)
 
     def on_exit_SUCCESS(self) -> None:
         self.set_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0)
 
     def on_exit_ABORT(self) -> None:
-        log.error("StSetInitialPose: localization failed after max retries, aborting")
+        attempts = self.get_global_sm_data(self.ATTEMPT_COUNTER_KEY, 0)
+        if attempts > self.MAX_ATTEMPTS:
+            log.error("StSetInitialPose: localization failed after %d attempts, aborting", self.MAX_ATTEMPTS)
+        else:
+            log.warning("StSetInitialPose: AMCL did not confirm the initial pose (attempt %d of %d)",
+                        attempts, self.MAX_ATTEMPTS)
 
 
 class StNavigateToWaypoint1(SmaccState):

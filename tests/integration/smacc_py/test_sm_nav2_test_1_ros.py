@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -68,17 +69,21 @@ def test_key_n_advances_all_sensors_go(stack, ros_context) -> None:  # type: ign
 
 
 def test_timer_fallback_then_retries_then_abort_on_sim_time(stack) -> None:  # type: ignore[no-untyped-def]
-    # No bonds: StAllSensorsGo leaves on the 15 s (sim) timer; StSetInitialPose's CbWaitNav2Nodes fails
-    # after 30 s each time, so after 1 + 3 attempts EvMaxRetriesExceeded aborts.
-    fake, runtime = stack(SmNav2Test1, bond_nodes=(), clock_rate=100.0)
+    # No bonds: StAllSensorsGo leaves on the 15 s (sim) timer. No AMCL: StSetInitialPose's
+    # CbSetInitialPose publishes the pose every second and fails after 15 s each time, so after
+    # 1 + 3 attempts EvMaxRetriesExceeded aborts.
+    fake, runtime = stack(SmNav2Test1, bond_nodes=(), amcl_echo=False, clock_rate=100.0)
     wait_until(lambda: _final(runtime), 60.0, "the retries to run out")
     keys = transition_keys(runtime)
     assert keys == [
         ("StAllSensorsGo", "StSetInitialPose", "SUCCESS"),
-        *[("StSetInitialPose", "StSetInitialPose", "RETRY")] * 4,
+        *[("StSetInitialPose", "StSetInitialPose", "ABORT")] * 4,
         ("StSetInitialPose", "StFinalState", "ABORT"),
     ]
-    first = runtime.sm.transition_log[0]
-    assert first.stamp_s - 1000.0 >= 15.0  # the timer ran on /clock, which starts at 1000 s
-    assert len(fake.initial_poses) == 4
+    log = list(runtime.sm.transition_log)
+    assert log[0].stamp_s - 1000.0 >= 15.0  # the timer ran on /clock, which starts at 1000 s
+    retries = itertools.pairwise(log[1:-1])
+    assert all(14.9 <= later.stamp_s - earlier.stamp_s <= 16.5 for earlier, later in retries)
+    assert len(fake.initial_poses) >= 4 * 15  # one per second of each attempt
+    assert all(pose == pytest.approx((-2.0, -0.5, 0.0)) for pose in fake.initial_poses)
     assert math.isclose(runtime.sm.get_global_sm_data("localization_attempt_count"), 5)

@@ -8,6 +8,8 @@ real stack) assert as well.
 
 from __future__ import annotations
 
+import itertools
+import math
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -113,7 +115,7 @@ def test_timer_fallback_fires_after_15_s_of_machine_clock(mission: Callable[...,
 
 
 def test_key_n_advances_from_all_sensors_go_only(mission: Callable[..., Mission]) -> None:
-    sm, world = mission(bonds=(False, False))
+    sm, world = mission(bonds=(False,), amcl_silent_until_s=math.inf)
     keyboard = world.keyboard(sm)
     keyboard.press("n")
     sm.process_events()
@@ -124,28 +126,38 @@ def test_key_n_advances_from_all_sensors_go_only(mission: Callable[..., Mission]
 
 
 def test_localization_retries_then_max_retries_exceeded_aborts(mission: Callable[..., Mission]) -> None:
-    sm, world = mission(bonds=(True, False, False, False, False))
+    """AMCL never confirms: each attempt times out after 15 s (machine clock), then the fifth entry aborts."""
+    sm, world = mission(amcl_silent_until_s=math.inf)
     assert world.drive(sm, _finished(sm))
     assert _keys(sm) == [
         NOMINAL_TRANSITIONS[0],
-        *[("StSetInitialPose", "StSetInitialPose", "RETRY")] * StSetInitialPose.MAX_ATTEMPTS,
+        *[("StSetInitialPose", "StSetInitialPose", "ABORT")] * StSetInitialPose.MAX_ATTEMPTS,
         ("StSetInitialPose", "StFinalState", "ABORT"),
     ]
-    assert type(sm.transition_log[-1].event).__name__ == "EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation]"
-    assert len(sm.requires_component(CpAmcl).published) == StSetInitialPose.MAX_ATTEMPTS
+    retry = sm.transition_log[1].event
+    assert type(retry).__name__ == "EvCbFailure[CbSetInitialPose, OrNavigation]"
+    assert "AMCL did not report a pose near (-2.0, -0.5, 0.0) within 15.0 s" in retry.reason
+    last = sm.transition_log[-1].event
+    assert type(last).__name__ == "EvMaxRetriesExceeded[CbSetInitialPose, OrNavigation]"
+    for first, second in itertools.pairwise(list(sm.transition_log)[1:-1]):
+        assert second.stamp_s - first.stamp_s == pytest.approx(15.0, abs=1.0)
+    assert set(sm.requires_component(CpAmcl).published) == {SmNav2Test1Params().initial_pose}
     assert sm.get_global_sm_data(StSetInitialPose.ATTEMPT_COUNTER_KEY) == StSetInitialPose.MAX_ATTEMPTS + 1
     assert world.navigation_goals(sm) == []
 
 
 def test_retry_then_success_resets_the_counter_on_the_success_tag(mission: Callable[..., Mission]) -> None:
-    sm, world = mission(bonds=(True, False, True))
+    """AMCL answers only from 20 s on: the first attempt fails at 15 s, the second succeeds."""
+    sm, world = mission(amcl_silent_until_s=20.0)
     assert world.drive(sm, _finished(sm))
     assert _keys(sm) == [
         NOMINAL_TRANSITIONS[0],
-        ("StSetInitialPose", "StSetInitialPose", "RETRY"),
+        ("StSetInitialPose", "StSetInitialPose", "ABORT"),
         *NOMINAL_TRANSITIONS[1:],
     ]
+    assert sm.transition_log[2].stamp_s >= 20.0
     assert sm.get_global_sm_data(StSetInitialPose.ATTEMPT_COUNTER_KEY) == 0
+
 
 
 def test_the_machine_is_the_shipped_one_with_stand_in_clients(mission: Callable[..., Mission]) -> None:
