@@ -6,6 +6,10 @@ previous one printed its readiness line, every output line is prefixed with the 
 launch stops with a clear error and a non-zero exit as soon as a process dies, and Ctrl-C (SIGINT
 or SIGTERM) shuts everything down in reverse order without leaving orphans: children get SIGTERM
 from the kernel if the launcher itself is killed (PR_SET_PDEATHSIG).
+
+A calm console: with ``log_dir`` every process's full output also goes to ``<log_dir>/<name>.log``,
+and ``show`` picks which of its lines reach the console (``show_problems``: warnings and errors
+only). A process that dies then has its last lines printed with the file they came from.
 """
 
 from __future__ import annotations
@@ -19,12 +23,29 @@ import subprocess
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TextIO
 
 _COLORS = ["\033[36m", "\033[33m", "\033[35m", "\033[32m", "\033[34m", "\033[31m"]
 _RESET = "\033[0m"
 _PR_SET_PDEATHSIG = 1
+#: Markers of the lines ``show_problems`` lets through: ROS log levels WARN and up, Python tracebacks.
+PROBLEM_MARKERS = ("[WARN]", "[ERROR]", "[FATAL]", "Traceback (most recent call last)", "Error: ", "error: ")
+LAST_LINES = 15  # lines of a dead process shown on the console
+
+
+def default_log_dir() -> Path:
+    """Where launches keep their process logs: ``$NAVSUITE_LOG_DIR``, else ``artifacts/logs`` (relative
+    to the working directory, next to the run reports)."""
+    return Path(os.environ.get("NAVSUITE_LOG_DIR") or Path("artifacts") / "logs")
+
+
+def show_problems(line: str) -> bool:
+    """``Launcher(show=...)`` for a calm console: warnings, errors and tracebacks only."""
+    return any(marker in line for marker in PROBLEM_MARKERS)
 
 
 class LaunchError(RuntimeError):
@@ -60,26 +81,51 @@ def _die_with_parent() -> None:
 
 
 class _Running:
-    def __init__(self, spec: ProcessSpec, color: str, out: Callable[[str], None]) -> None:
+    def __init__(self, spec: ProcessSpec, color: str, out: Callable[[str], None],
+                 show: Callable[[str], bool], log_path: Path | None) -> None:
         self.spec = spec
         self.ready = threading.Event() if spec.ready else None
         self._pattern = re.compile(spec.ready) if spec.ready else None
+        self.log_path = log_path
+        self.last_lines: deque[str] = deque(maxlen=LAST_LINES)
+        self.hidden = False  # some line did not reach the console
+        log: TextIO | None = None
+        if log_path is not None:
+            log_path.parent.mkdir(parents=True, exist_ok=True)
+            log = log_path.open("w", encoding="utf-8", buffering=1)
         env = dict(os.environ, PYTHONUNBUFFERED="1", **spec.env)
         env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-        self.proc = subprocess.Popen(
-            list(spec.cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-            start_new_session=True, preexec_fn=_die_with_parent, bufsize=1,
-        )
+        try:
+            self.proc = subprocess.Popen(
+                list(spec.cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                start_new_session=True, preexec_fn=_die_with_parent, bufsize=1,
+            )
+        except OSError:
+            if log is not None:
+                log.close()
+            raise
         prefix = f"{color}[{spec.name}]{_RESET} " if color else f"[{spec.name}] "
-        self._reader = threading.Thread(target=self._pump, args=(prefix, out), daemon=True)
+        self._reader = threading.Thread(target=self._pump, args=(prefix, out, show, log), daemon=True)
         self._reader.start()
 
-    def _pump(self, prefix: str, out: Callable[[str], None]) -> None:
+    def _pump(self, prefix: str, out: Callable[[str], None], show: Callable[[str], bool],
+              log: TextIO | None) -> None:
         assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            out(prefix + line.rstrip("\n"))
-            if self.ready is not None and not self.ready.is_set() and self._pattern.search(line):  # type: ignore[union-attr]
-                self.ready.set()
+        try:
+            for line in self.proc.stdout:
+                line = line.rstrip("\n")
+                self.last_lines.append(line)
+                if log is not None:
+                    log.write(line + "\n")
+                if show(line):
+                    out(prefix + line)
+                else:
+                    self.hidden = True
+                if self.ready is not None and not self.ready.is_set() and self._pattern.search(line):  # type: ignore[union-attr]
+                    self.ready.set()
+        finally:
+            if log is not None:
+                log.close()
 
     def drain(self, timeout: float = 2.0) -> None:
         """Wait (at most ``timeout`` s) until every line of an exited process has been read."""
@@ -98,11 +144,16 @@ class Launcher:
     STATUS_PERIOD = 10.0
 
     def __init__(self, output: Callable[[str], None] | None = None, color: bool | None = None,
-                 shutdown_grace: float = 10.0) -> None:
+                 shutdown_grace: float = 10.0, log_dir: Path | str | None = None,
+                 show: Callable[[str], bool] | None = None) -> None:
+        """``output`` takes every console line; ``log_dir`` (None: no files) gets ``<name>.log`` per
+        process; ``show`` picks the process lines the console gets (default: all of them)."""
         self._lock = threading.Lock()
         self._output = output or self._print
         self._color = sys.stdout.isatty() if color is None else color
         self._grace = shutdown_grace
+        self.log_dir = Path(log_dir) if log_dir is not None else None
+        self._show = show or (lambda _line: True)
         self.running: list[_Running] = []
         self._stop = threading.Event()
 
@@ -119,7 +170,8 @@ class Launcher:
             color = _COLORS[index % len(_COLORS)] if self._color else ""
             self.log(f"starting {spec.name}: {' '.join(spec.cmd)}")
             try:
-                running = _Running(spec, color, self._output)
+                log_path = self.log_dir / f"{spec.name}.log" if self.log_dir is not None else None
+                running = _Running(spec, color, self._output, self._show, log_path)
             except OSError as error:
                 raise LaunchError(f"cannot start {spec.name} ({spec.cmd[0]}): {error}") from error
             self.running.append(running)
@@ -133,6 +185,7 @@ class Launcher:
                     running.drain()  # its last lines (the ready line, maybe) may still be in the pipe
                     if running.ready.is_set():
                         break  # ready, then exited: wait() reports its exit code
+                    self._show_last_lines(running)
                     raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
                 if self._stop.is_set():
                     raise LaunchError("interrupted during startup")
@@ -164,9 +217,20 @@ class Launcher:
                         self.log(f"{running.spec.name} finished")
                         return 0
                     self.log(f"ERROR: {running.spec.name} died with exit code {code}; stopping the launch")
+                    running.drain()
+                    self._show_last_lines(running)
                     return code if code > 0 else 1
             time.sleep(poll)
         return 0
+
+    def _show_last_lines(self, running: _Running) -> None:
+        """After a death: the process's last lines, when the console did not show them all."""
+        if not running.hidden:
+            return
+        where = f" (all of them in {running.log_path})" if running.log_path else ""
+        self.log(f"last {len(running.last_lines)} lines of {running.spec.name}{where}:")
+        for line in list(running.last_lines):
+            self._output(f"[{running.spec.name}] {line}")
 
     def stop(self) -> None:
         """Ask ``wait`` to return (safe from signal handlers and other threads)."""

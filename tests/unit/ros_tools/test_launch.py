@@ -6,11 +6,12 @@ import os
 import sys
 import threading
 import time
+from pathlib import Path
 from typing import Any
 
 import pytest
 
-from ros_tools.launch import Launcher, LaunchError, ProcessSpec, _Running
+from ros_tools.launch import Launcher, LaunchError, ProcessSpec, _Running, show_problems
 
 PY = sys.executable
 
@@ -56,17 +57,41 @@ def test_a_process_that_exits_right_after_its_ready_line_was_ready(monkeypatch: 
     still counts, and the launch ends with the process's own exit code."""
     pump = _Running._pump
 
-    def lagging_pump(self: _Running, prefix: str, out: Any) -> None:
+    def lagging_pump(self: _Running, *args: Any) -> None:
         # The lag itself, not a wait for a condition: longer than the launcher's 0.1 s readiness poll,
         # so the launcher sees the exit before the reader has read the ready line.
         time.sleep(0.5)
-        pump(self, prefix, out)
+        pump(self, *args)
 
     monkeypatch.setattr(_Running, "_pump", lagging_pump)
     lines, launcher = collect()
     quick = ProcessSpec("quick", script("import sys; print('ready'); sys.exit(3)"), ready="ready")
     assert launcher.run([quick]) == 3
     assert any("quick is ready" in line for line in lines)
+
+
+def test_log_files_keep_every_line_while_the_console_shows_only_problems(tmp_path: Path) -> None:
+    lines: list[str] = []
+    launcher = Launcher(output=lines.append, color=False, shutdown_grace=2.0, log_dir=tmp_path / "logs",
+                        show=show_problems)
+    body = ("print('[INFO] [1.0] [n]: chatty'); print('[WARN] [1.1] [n]: careful'); "
+            "print('[INFO] [1.2] [n]: ready')")
+    assert launcher.run([ProcessSpec("talker", script(body), ready="ready")]) == 0
+    assert (tmp_path / "logs" / "talker.log").read_text().splitlines() == [
+        "[INFO] [1.0] [n]: chatty", "[WARN] [1.1] [n]: careful", "[INFO] [1.2] [n]: ready"]
+    shown = [line for line in lines if line.startswith("[talker]")]
+    assert shown == ["[talker] [WARN] [1.1] [n]: careful"]
+
+
+def test_a_dead_process_shows_its_last_lines_and_its_log_file(tmp_path: Path) -> None:
+    lines: list[str] = []
+    launcher = Launcher(output=lines.append, color=False, shutdown_grace=2.0, log_dir=tmp_path,
+                        show=show_problems)
+    body = "import sys; print('ready'); [print(f'step {i}') for i in range(30)]; sys.exit(4)"
+    assert launcher.run([ProcessSpec("worker", script(body), ready="ready")]) == 4
+    header = next(i for i, line in enumerate(lines) if "last 15 lines of worker" in line)
+    assert str(tmp_path / "worker.log") in lines[header]
+    assert lines[header + 1:header + 16] == [f"[worker] step {i}" for i in range(15, 30)]
 
 
 def test_readiness_timeout_and_early_exit_are_reported():
