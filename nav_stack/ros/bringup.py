@@ -5,6 +5,7 @@
                 [--no-sim] [--isolated]
                 [--no-lockstep] [--executor events|single]
                 [--no-initial-pose] [--x X --y Y --yaw YAW (default: the world's first spawn)]
+                [--verbose] [--log-dir artifacts/logs]
 
 Processes, started in order by ros_tools.launch.Launcher, each waiting for the previous one's
 readiness line (all with use_sim_time true; sim2d publishes /clock):
@@ -19,8 +20,10 @@ readiness line (all with use_sim_time true; sim2d publishes /clock):
 
 ``--isolated`` runs localization and navigation as two processes instead (``localization`` before
 ``initial_pose``, then ``navigation``). Then it prints exactly ``Nav2 is ready``. A process that
-dies ends the launch with its exit code; Ctrl-C stops everything in reverse order. The simulator
-stays a separate process (nav_stack never imports sim2d).
+dies ends the launch with its exit code (and its last lines are shown); Ctrl-C stops everything in
+reverse order. The simulator stays a separate process (nav_stack never imports sim2d). The console
+shows readiness, warnings and errors; each process's full log is in ``--log-dir`` (``--verbose``
+streams it all).
 
 Lockstep (default; ``--no-lockstep`` turns it off): sim2d waits for the node processes (roles
 ``nav2``, or ``localization`` and ``navigation``) before its first step and never runs more than
@@ -168,16 +171,26 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-initial-pose", dest="initial_pose", action="store_false")
     parser.add_argument("--headless", action="store_true", default=True, help="no GUI (the only mode)")
     parser.add_argument("--ready-timeout", type=float, default=120.0, help="s (wall) each process may take")
+    parser.add_argument("--verbose", action="store_true",
+                        help="stream every line of every process (default: readiness, warnings and errors)")
+    parser.add_argument("--log-dir", type=Path, default=None,
+                        help="where each process's full log goes, as <process>.log (default: "
+                             "$NAVSUITE_LOG_DIR, else artifacts/logs)")
     return parser
 
 
-def _apply_world_defaults(args: argparse.Namespace) -> None:
-    """Fill --world, --map and the spawn the user left out from the world (nav_stack.ros.world_defaults)."""
+def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
+    """Fill --world, --map and the spawn the user left out from the world (nav_stack.ros.world_defaults).
+
+    The world's map (an absolute path) replaces the parameter file's ``yaml_filename`` when the user
+    chose the world or left --params to the robot's shipped file: that file's relative
+    ``maps/turtlebot3_world.yaml`` would only load when started from the repository.
+    """
     from nav_stack.ros.world_defaults import world_defaults
 
     chosen, args.world = args.world is not None, args.world or "turtlebot3_world"
     defaults = world_defaults(args.world)
-    if chosen and args.map is None and not args.slam and defaults.map_yaml is not None:
+    if (chosen or not own_params) and args.map is None and not args.slam and defaults.map_yaml is not None:
         args.map = str(defaults.map_yaml)
     for name, value in zip(("x", "y", "yaw"), defaults.spawn, strict=True):
         if getattr(args, name) is None:
@@ -188,9 +201,10 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     """The launch options: parsed, checked (exit 2 with a message) and completed by the world's defaults."""
     parser = _parser()
     args = parser.parse_args(list(argv))
+    own_params = args.params is not None
     args.params = args.params or str(params_for_robot(args.robot))
     _validate(args, parser)
-    _apply_world_defaults(args)
+    _apply_world_defaults(args, own_params)
     return args
 
 
@@ -268,9 +282,12 @@ def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None
     import signal
     import threading
 
-    from ros_tools.launch import Launcher, LaunchError
+    from ros_tools.launch import Launcher, LaunchError, default_log_dir, show_problems
 
-    launcher = Launcher(output=output)
+    log_dir = args.log_dir or default_log_dir()
+    launcher = Launcher(output=output, log_dir=log_dir, show=None if args.verbose else show_problems)
+    if not args.verbose:
+        launcher.log(f"every process logs to {log_dir}/<process>.log; --verbose shows it all here")
     interrupted = threading.Event()
 
     def on_signal(signum: int, frame: object) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+from pathlib import Path
 
 import pytest
 
@@ -52,7 +53,12 @@ def test_a_world_brings_its_map_and_spawn_unless_given():
     given = _specs("--world", "turtlebot3_house", "--x", "-3.0", "--map", "maps/turtlebot3_world.yaml")
     assert given[0].cmd[given[0].cmd.index("--x") + 1] == "-3.0"
     assert given[2].cmd[given[2].cmd.index("--map") + 1].endswith("maps/turtlebot3_world.yaml")
-    assert "--map" not in _specs()[2].cmd  # no --world: the parameter file's map
+    # no --world and the shipped parameters: the default world's map, by absolute path (the file's
+    # relative yaml_filename would load only from the repository); own --params keep their own map
+    default = _specs()[2].cmd
+    assert Path(default[default.index("--map") + 1]).is_absolute()
+    assert default[default.index("--map") + 1].endswith("maps/turtlebot3_world.yaml")
+    assert "--map" not in _specs("--params", "config/nav2_params.yaml")[2].cmd
 
 
 def test_tb4_brings_its_parameter_file_and_the_simulator_its_model():
