@@ -4,6 +4,9 @@
 * Every test session claims its own ROS_DOMAIN_ID (an exclusive lock per id, or
   NAVSUITE_TEST_DOMAIN_ID if set), so parallel runs, CI and a running demo never see each other.
   Child processes started by tests inherit both variables.
+* Launches started by tests write their process logs to a directory of this session
+  (NAVSUITE_LOG_DIR, a fresh temporary directory per worker), not to the user's artifacts/logs: two
+  test workers running the stack at once would otherwise write the same files.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
 * After every test, nodes whose context was shut down are destroyed (``_release_dds_participants``):
   a node outliving its context keeps that context's DDS participant alive, and with localhost
@@ -48,6 +51,8 @@ if "NAVSUITE_TEST_DOMAIN_ID" in os.environ:
     os.environ["ROS_DOMAIN_ID"] = os.environ["NAVSUITE_TEST_DOMAIN_ID"]
 else:
     os.environ["ROS_DOMAIN_ID"] = str(_claim_domain_id())
+# per process (each xdist worker has its own): a directory inherited from the controller would be shared
+os.environ["NAVSUITE_LOG_DIR"] = tempfile.mkdtemp(prefix=f"navsuite-logs-{os.environ['ROS_DOMAIN_ID']}-")
 
 
 @pytest.fixture

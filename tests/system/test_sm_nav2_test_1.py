@@ -10,6 +10,7 @@ Slow: it starts the whole simulator and navigation stack. Skipped until nav_stac
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -34,19 +35,16 @@ REPLAY_RATE = "4"
 ARTIFACT = REPO / "artifacts" / "test_demo_report.png"
 
 
-def _demo(report: Path, *args: str, timeout: float = 900.0) -> subprocess.CompletedProcess[str]:
-    cmd = [
-        sys.executable,
-        "-m",
-        "smacc_py.state_machines.sm_nav2_test_1.demo",
-        "--rtf",
-        SYSTEM_RTF,
-        "--quiet",
-        "--report",
-        str(report),
-        *args,
-    ]
-    return subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=timeout)
+def _demo(report: Path, *args: str, cwd: Path = REPO,
+          timeout: float = 900.0) -> subprocess.CompletedProcess[str]:
+    """``navsuite-demo`` with its default (calm) console, piped as in CI; the logs go to the session's
+    NAVSUITE_LOG_DIR (tests/conftest.py) unless the caller's ``cwd`` should hold them."""
+    cmd = [sys.executable, "-m", "smacc_py.state_machines.sm_nav2_test_1.demo", "--rtf", SYSTEM_RTF,
+           "--report", str(report), *args]
+    env = dict(os.environ)
+    if cwd != REPO:
+        env.pop("NAVSUITE_LOG_DIR", None)  # the default then: <cwd>/artifacts/logs
+    return subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
 
 
 def _transitions(stdout: str) -> list[str]:
@@ -93,11 +91,19 @@ def _check_replay(bag: Path, context: Context) -> None:
 
 @pytest.mark.timeout(900)
 def test_demo_completes_the_mission_through_success(tmp_path: Path, ros_context: Context) -> None:
+    """Run from a directory outside the repository, as a user might: the console is the story (five
+    transitions and a summary in under 40 lines) and every process's full log is in artifacts/logs."""
     report = tmp_path / "demo_report.png"
-    done = _demo(report, "--timeout", "600")
+    done = _demo(report, "--timeout", "600", cwd=tmp_path)
     assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]
     assert "result: SUCCESS" in done.stdout
+    assert len(done.stdout.splitlines()) < 40, done.stdout
+    assert "[demo] ---------------- summary ----------------" in done.stdout
+    logs = tmp_path / "artifacts" / "logs"
+    assert {"nav.log", "sim2d.log", "nav2.log", "initial_pose.log", "record.log"} <= {
+        log.name for log in logs.glob("*.log")}, done.stdout
+    assert "Managed nodes are active" in (logs / "nav2.log").read_text()  # the full log, INFO lines too
     _check_report(done.stdout, report)
     _check_replay(report.with_suffix(".mcap"), ros_context)
 
@@ -113,7 +119,7 @@ def test_waypoint_beyond_the_outer_wall_aborts_with_the_planners_error(tmp_path:
     # the planner's Nav2 error code and message reach the output (the README quotes this line)
     assert "error_code 208: 'compute_path_to_pose' failed with error code 208 (NO_VALID_PATH)" in abort_line
     assert "result: ABORT" in done.stdout
-    # --quiet hides the stack's output, but not the warnings that explain a failure
+    # the calm console hides the stack's output, but not the warnings that explain a failure
     problems = done.stdout.split("[demo] the stack's last", 1)[-1]
     assert "[bt_navigator]: navigate_to_pose: goal failed" in problems, done.stdout[-5000:]
 
@@ -131,7 +137,7 @@ def test_demo_runs_the_mission_with_a_tb4(tmp_path: Path) -> None:
 def test_upstreams_second_waypoint_in_a_pillar_succeeds_within_the_planner_tolerance(tmp_path: Path) -> None:
     """(0, 0) is inside turtlebot3_world's middle pillar. NavFn's 0.5 m tolerance plans to the nearest
     reachable point instead, so the goal succeeds, as it does with Nav2 (the README says so)."""
-    done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint2", "0.0,0.0,0.0",
+    done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint2", "0,0,0",
                  "--no-report")
     assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]

@@ -25,7 +25,13 @@ from pathlib import Path
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
-from smacc_py.state_machines.sm_nav2_test_1.demo import READY_PATTERN, bringup_command, parse_rtf
+from smacc_py.state_machines.sm_nav2_test_1.demo import (
+    READY_PATTERN,
+    add_console_arguments,
+    bringup_command,
+    console_arguments,
+    parse_rtf,
+)
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
 #: sim2d's battery drained as in the seed (2 % per metre): a real waffle's would last two hours.
@@ -56,6 +62,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
     parser.add_argument("--bringup-arg", action="append", default=[],
                         help="extra argument for the stack command (repeatable)")
+    add_console_arguments(parser)
     options = parser.parse_args(argv)
     if options.cycles < 1:
         parser.error(f"--cycles must be >= 1, got {options.cycles}")
@@ -138,16 +145,13 @@ def run_patrol(options: argparse.Namespace, launcher: object, say: Callable[[str
 def main(argv: Sequence[str] | None = None) -> int:
     import signal
 
-    from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+    from ros_tools.console import StackConsole
+    from ros_tools.launch import Launcher, LaunchError, ProcessSpec, default_log_dir
 
     options = parse_args(argv)
-    lock = threading.Lock()
-
-    def say(line: str) -> None:
-        with lock:
-            print(line, flush=True)
-
-    launcher = Launcher(output=say)
+    out = StackConsole(options.verbose, "patrol")
+    log_dir = options.log_dir or default_log_dir()
+    launcher = Launcher(output=out.stack, log_dir=log_dir)
     interrupted = threading.Event()
 
     def on_signal(signum: int, frame: object) -> None:
@@ -157,17 +161,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     use_sim_params = options.sim_params is not None and not options.bringup
     sim_params = ["--sim-params", str(options.sim_params)] if use_sim_params else []
-    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol", options.robot), *sim_params,
-               *options.bringup_arg]
+    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol", options.robot,
+                                console_arguments(options, log_dir)),
+               *sim_params, *options.bringup_arg]
     try:
-        say(f"[patrol] starting the stack: {' '.join(command)}")
+        out.say(f"[patrol] starting the stack: {' '.join(command)}")
         try:
             spec = ProcessSpec("nav", command, ready=READY_PATTERN, ready_timeout=options.ready_timeout)
             launcher.start([spec])
         except LaunchError as error:
-            say(f"[patrol] FAILED: the stack did not come up: {error}")
+            out.show_kept()
+            out.say(f"[patrol] FAILED: the stack did not come up: {error} (logs: {log_dir}/)")
             return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
-        return run_patrol(options, launcher, say, interrupted)
+        out.say(f"[patrol] the stack is ready; its logs: {log_dir}/<process>.log")
+        code = run_patrol(options, launcher, out.say, interrupted)
+        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
+            out.show_problems(log_dir)
+        return code
     finally:
         launcher.shutdown()
         for sig, handler in previous.items():

@@ -30,7 +30,6 @@ import signal
 import sys
 import threading
 import time
-from collections import deque
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -56,20 +55,37 @@ def parse_pose(text: str) -> list[float]:
 
 
 def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None,
-                    robot: str | None = None) -> list[str]:
+                    robot: str | None = None, console: Sequence[str] = ()) -> list[str]:
     """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
     ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
 
     ``machine`` names the state machine that will join lockstep: the simulator waits for it before
     its first step, so the mission starts at the same sim time on every run. ``robot`` is passed on
     as ``--robot`` (nav-bringup checks the name and picks that robot's simulation and parameters).
+    ``console`` (nav-bringup's ``--verbose``, ``--log-dir``) is for nav-bringup only.
     """
     robot_args = ["--robot", robot] if robot else []
     if custom:
         return [*shlex.split(custom), *robot_args, "--rtf", rtf]
     exe = shutil.which("nav-bringup")
     base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, *robot_args, "--rtf", rtf, *(["--participant", machine] if machine else [])]
+    return [*base, *robot_args, "--rtf", rtf, *(["--participant", machine] if machine else []), *console]
+
+
+def add_console_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--verbose``, ``--quiet`` and ``--log-dir``, shared by the mission commands."""
+    parser.add_argument("--verbose", action="store_true",
+                        help="stream every line of every process (default: the mission's own lines; the "
+                             "stack's errors live, its last warnings if the run fails)")
+    parser.add_argument("--quiet", action="store_true", help="the default console (kept for scripts)")
+    parser.add_argument("--log-dir", type=Path, default=None,
+                        help="each process's full log, as <process>.log (default: $NAVSUITE_LOG_DIR, "
+                             "else artifacts/logs)")
+
+
+def console_arguments(options: argparse.Namespace, log_dir: Path) -> list[str]:
+    """What nav-bringup is told about the console: the same verbosity, the same log directory."""
+    return [*(["--verbose"] if options.verbose else []), "--log-dir", str(log_dir)]
 
 
 def parse_rtf(text: str) -> str:
@@ -141,7 +157,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         "--ready-timeout", type=float, default=180.0, help="wall s to wait for 'Nav2 is ready'"
     )
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
-    parser.add_argument("--quiet", action="store_true", help="hide the stack's output (shown if it fails)")
+    add_console_arguments(parser)
     parser.add_argument("--report", type=Path, default=REPORT_DEFAULT,
                         help=f"run report PNG, from a recording next to it (default {REPORT_DEFAULT})")
     parser.add_argument("--no-report", dest="report", action="store_const", const=None,
@@ -149,49 +165,14 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
-PROBLEM_LEVELS = ("[WARN]", "[ERROR]", "[FATAL]")
-
-
-class _Output:
-    """Serialised printing. With ``quiet`` the stack's lines are kept instead of shown: the last 200
-    (printed if the stack does not come up) and, apart, the last 20 warnings and errors (printed if
-    the mission fails, so a quiet run still says why)."""
-
-    def __init__(self, quiet: bool) -> None:
-        self.quiet = quiet
-        self.lock = threading.Lock()
-        self.kept: deque[str] = deque(maxlen=200)
-        self.problems: deque[str] = deque(maxlen=20)
-
-    def stack(self, line: str) -> None:
-        if not self.quiet:
-            self.say(line)
-            return
-        with self.lock:
-            self.kept.append(line)
-            if any(level in line for level in PROBLEM_LEVELS):
-                self.problems.append(line)
-
-    def say(self, line: str) -> None:
-        with self.lock:
-            print(line, flush=True)
-
-    def show_problems(self) -> None:
-        """Print the kept warnings and errors (nothing when there were none)."""
-        with self.lock:
-            problems = list(self.problems)
-        if problems:
-            self.say(f"[demo] the stack's last {len(problems)} warnings and errors:")
-            for line in problems:
-                self.say(line)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
-    from ros_tools.launch import Launcher, LaunchError
+    from ros_tools.console import StackConsole
+    from ros_tools.launch import Launcher, LaunchError, default_log_dir
 
-    out = _Output(options.quiet)
-    launcher = Launcher(output=out.stack)
+    out = StackConsole(options.verbose, "demo")
+    log_dir = options.log_dir or default_log_dir()
+    launcher = Launcher(output=out.stack, log_dir=log_dir)
     interrupted = threading.Event()
 
     def on_signal(signum: int, frame: object) -> None:
@@ -201,33 +182,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     wall_start = time.monotonic()
     try:
-        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1", options.robot)
+        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1", options.robot,
+                                  console_arguments(options, log_dir))
         out.say(f"[demo] starting the stack: {' '.join(command)}")
         try:
-            launcher.start(
-                [
-                    ProcessSpec(
-                        "nav",
-                        command,
-                        ready=READY_PATTERN,
-                        ready_timeout=options.ready_timeout,
-                    )
-                ]
-            )
+            launcher.start([ProcessSpec("nav", command, ready=READY_PATTERN,
+                                        ready_timeout=options.ready_timeout)])
         except LaunchError as error:
-            if options.quiet:
-                for line in list(out.kept)[-40:]:
-                    out.say(line)
-            out.say(f"[demo] FAILED: the stack did not come up: {error}")
+            out.show_kept()
+            out.say(f"[demo] FAILED: the stack did not come up: {error} (logs: {log_dir}/)")
             return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
+        out.say(f"[demo] the stack is ready ({time.monotonic() - wall_start:.1f} s); "
+                f"its logs: {log_dir}/<process>.log")
         from smacc_py.state_machines.sm_nav2_test_1.mission import run_mission
 
         if options.report is not None:
             options.report.parent.mkdir(parents=True, exist_ok=True)
             launcher.start([recorder_spec(options.report)])
         code = run_mission(options, launcher, out.say, interrupted, wall_start)
-        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED) and options.quiet:
-            out.show_problems()
+        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
+            out.show_problems(log_dir)
         return code
     finally:
         launcher.shutdown()  # SIGINT first: the recorder closes its file
