@@ -4,6 +4,7 @@ Why: a mission's story is a handful of lines (transitions, a summary), while the
 hundreds. By default the stack's lines are kept, not shown: errors appear live, and when the run
 fails the last warnings and errors are printed with where the full logs are (the launcher writes
 each process's log to ``<log_dir>/<process>.log``). ``verbose`` streams every line as it comes.
+On a terminal a live line (``live``) shows the run's progress under the printed lines.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from collections import deque
 from pathlib import Path
 
 from ros_tools.launch import show_problems
+from ros_tools.status_line import StatusLine
 
 LIVE_MARKERS = ("[ERROR]", "[FATAL]")  # shown as they come even on a calm console
 KEPT_LINES = 200  # the stack's last lines, shown when it does not come up
@@ -22,18 +24,28 @@ KEPT_PROBLEMS = 20  # the stack's last warnings and errors, shown when the run f
 class StackConsole:
     """Serialised printing of the command's own lines (``say``) and the stack's (``stack``)."""
 
-    def __init__(self, verbose: bool, name: str) -> None:
-        """``name`` prefixes the console's own notes (``[demo] ...``)."""
+    def __init__(self, verbose: bool, name: str, status: StatusLine | None = None) -> None:
+        """``name`` prefixes the console's own notes (``[demo] ...``); ``status`` is the live line
+        (drawn on a terminal only; its stream should be stdout, where the lines go)."""
         self.verbose = verbose
         self.name = name
+        self.status = status
         self._lock = threading.Lock()
         self.kept: deque[str] = deque(maxlen=KEPT_LINES)
         self.problems: deque[str] = deque(maxlen=KEPT_PROBLEMS)
 
     def say(self, line: str) -> None:
-        """Print one line of the command's own."""
+        """Print one line of the command's own (under the live line, which is redrawn later)."""
         with self._lock:
+            if self.status is not None:
+                self.status.clear()
             print(line, flush=True)
+
+    def live(self, text: str) -> None:
+        """Redraw the live line with ``text`` (rate-limited; nothing when not on a terminal)."""
+        if self.status is not None:
+            with self._lock:
+                self.status.update(text)
 
     def stack(self, line: str) -> None:
         """Take one line of the stack's output (the Launcher's ``output``)."""

@@ -34,8 +34,8 @@ from rclpy.signals import SignalHandlerOptions
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.recorder import SPIN_SLICE, Recorder, RecordOptions, spin_for
 from ros_tools.bag.schema import SCHEMA_ENCODING, message_definition
-from ros_tools.bag.status import StatusLine, topic_counts
 from ros_tools.runtime.executor import make_executor
+from ros_tools.status_line import StatusLine, topic_counts
 from ros_tools.types import parse_type_name
 
 #: Message encoding of every channel: the subscriptions deliver serialized CDR bytes.

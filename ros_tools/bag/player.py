@@ -31,8 +31,8 @@ from rosgraph_msgs.msg import Clock
 from ros_tools.bag.qos import parse_offered_qos, playback_profile
 from ros_tools.bag.reader import BagError, BagReader
 from ros_tools.bag.recorder import full_topic_name, spin_for
-from ros_tools.bag.status import StatusLine
 from ros_tools.runtime.executor import make_executor
+from ros_tools.status_line import StatusLine
 from ros_tools.types import import_type
 
 CLOCK_TOPIC = "/clock"

@@ -34,9 +34,9 @@ from rclpy.validate_full_topic_name import validate_full_topic_name
 
 from ros_tools.bag.qos import offered_qos_yaml, request_for_offers
 from ros_tools.bag.reader import BagError
-from ros_tools.bag.status import StatusLine, topic_counts
 from ros_tools.bag.writer import BagWriter
 from ros_tools.runtime.executor import make_executor
+from ros_tools.status_line import StatusLine, topic_counts
 from ros_tools.types import import_type
 
 SPIN_SLICE = 0.05  # wall s the main loop serves callbacks between its checks

@@ -2,7 +2,9 @@
 
 Starts ``nav-bringup --rtf N`` through ros_tools.launch (waits for its "Nav2 is ready" line), then runs
 SmNav2Test1 in this process on sim time, prints every transition as it happens (sim time, source →
-target, tag, triggering event and, on failures, the Nav2 error), and ends with a summary. Exit status:
+target, tag, triggering event and, on failures, the Nav2 error), and ends with a summary. On a
+terminal a live line shows the state, pose, distance left, ETA, recoveries and real-time factor.
+The stack's own output goes to ``artifacts/logs/<process>.log`` (``--verbose`` streams it). Exit status:
 0 when the mission reached StFinalState through the SUCCESS path; 1 on the ABORT path, 2 on a wall-clock
 timeout, 3 when a process of the stack died (or could not start), 130 on Ctrl-C.
 
@@ -169,8 +171,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
     from ros_tools.console import StackConsole
     from ros_tools.launch import Launcher, LaunchError, default_log_dir
+    from ros_tools.status_line import StatusLine
 
-    out = StackConsole(options.verbose, "demo")
+    out = StackConsole(options.verbose, "demo", StatusLine(sys.stdout, period=0.5))
     log_dir = options.log_dir or default_log_dir()
     launcher = Launcher(output=out.stack, log_dir=log_dir)
     interrupted = threading.Event()
@@ -199,7 +202,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if options.report is not None:
             options.report.parent.mkdir(parents=True, exist_ok=True)
             launcher.start([recorder_spec(options.report)])
-        code = run_mission(options, launcher, out.say, interrupted, wall_start)
+        code = run_mission(options, launcher, out.say, interrupted, wall_start, out.live)
         if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
             out.show_problems(log_dir)
         return code

@@ -61,12 +61,17 @@ def run_mission(
     say: Callable[[str], None],
     interrupted: threading.Event,
     wall_start: float,
+    live: Callable[[str], None] | None = None,
 ) -> int:
-    """Run the machine until StFinalState, a timeout, Ctrl-C or the stack's death; returns the exit code."""
+    """Run the machine until StFinalState, a timeout, Ctrl-C or the stack's death; returns the exit code.
+
+    ``live`` gets the mission's status line (smacc_py.ros.mission_status) every 0.1 s (wall).
+    """
     import rclpy
     from rclpy.context import Context
     from rclpy.parameter import Parameter
 
+    from smacc_py.ros.mission_status import MissionStatus
     from smacc_py.ros.runtime import SmaccRuntime
     from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1
 
@@ -82,6 +87,8 @@ def run_mission(
         runtime = SmaccRuntime(SmNav2Test1, context=context, parameter_overrides=overrides)
         observer = MissionObserver(say)
         runtime.sm.add_observer(observer)
+        status = MissionStatus()
+        runtime.sm.add_observer(status)
         assert isinstance(runtime.sm, SmNav2Test1)
         config = runtime.sm.config
         say(
@@ -95,6 +102,9 @@ def run_mission(
         timed_out = threading.Event()
 
         def until() -> bool:
+            if live is not None and runtime is not None and runtime.started_at_s is not None:
+                sim_s = runtime.sm.now() - runtime.started_at_s
+                live(status.line(runtime.sm.current_state_names(), sim_s, time.monotonic() - mission_start))
             if observer.finished.is_set() or interrupted.is_set():
                 return True
             if time.monotonic() > deadline:

@@ -21,8 +21,8 @@ from ros_tools.bag.qos import offered_qos_yaml, parse_offered_qos, playback_prof
 from ros_tools.bag.reader import BagError, BagReader
 from ros_tools.bag.recorder import RecordOptions
 from ros_tools.bag.schema import message_definition
-from ros_tools.bag.status import StatusLine, topic_counts
 from ros_tools.bag.writer import BagWriter
+from ros_tools.status_line import StatusLine, topic_counts
 from tests.helpers.bag_synthetic import DURATION, T0, write_synthetic_run
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,

@@ -1,4 +1,4 @@
-"""A one-line live status for long commands (record, play), redrawn in place on a terminal.
+"""A one-line live status for long commands (bag record and play, the demos), redrawn in place on a terminal.
 
 On a terminal the line is rewritten at most every ``period`` seconds (wall clock) with a carriage
 return; when stderr is a pipe or a file nothing is drawn, so logs and tests stay clean, and only
@@ -37,6 +37,15 @@ class StatusLine:
         self._stream.write("\r" + line.ljust(width))
         self._stream.flush()
         self._drawn = True
+
+    def clear(self) -> None:
+        """Blank the live line, so that a normal line can be printed on the same stream."""
+        if self._drawn:
+            width = max(20, shutil.get_terminal_size((100, 20)).columns - 1)
+            self._stream.write("\r" + " " * width + "\r")
+            self._stream.flush()
+            self._drawn = False
+            self._last = float("-inf")  # redraw at the next update
 
     def finish(self, text: str) -> None:
         """End the live line and print ``text`` as a normal line."""
