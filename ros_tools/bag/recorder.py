@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import os
 import re
-import signal
-import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,6 +34,7 @@ from ros_tools.bag.qos import offered_qos_yaml, request_for_offers
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.writer import BagWriter
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import StopOnSignal
 from ros_tools.status_line import StatusLine, topic_counts
 from ros_tools.types import import_type
 
@@ -207,34 +206,6 @@ class Recorder:
         }
 
 
-class _StopOnSignal:
-    """SIGINT and SIGTERM ask the recording loop to stop instead of raising where they land.
-
-    Why: Python raises KeyboardInterrupt in whatever the main thread runs, and while it spins that
-    is often a callback (topic discovery): the executor then logs the interrupt as a fatal callback
-    exception with its traceback, at every ordinary Ctrl-C or supervisor stop. The loop checks the
-    flag every SPIN_SLICE, so stopping still takes at most 50 ms. Only the main thread may install
-    handlers; elsewhere (a test calling ``run_record`` from a thread) nothing changes.
-    """
-
-    SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-    def __init__(self) -> None:
-        self.requested = False
-        self._previous: dict[int, Any] = {}
-        if threading.current_thread() is threading.main_thread():
-            self._previous = {sig: signal.signal(sig, self._on_signal) for sig in self.SIGNALS}
-
-    def _on_signal(self, _signum: int, _frame: object) -> None:
-        self.requested = True
-
-    def restore(self) -> None:
-        """Put the previous handlers back."""
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-        self._previous = {}
-
-
 def spin_for(executor: Any, seconds: float) -> None:
     """Serve callbacks for ``seconds`` (wall) in one call: the EventsExecutor then runs every event
     in C++ without a Python round trip per message (``spin_once`` returns after each one)."""
@@ -262,7 +233,7 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
     steady = Clock(clock_type=ClockType.STEADY_TIME)
     node.create_timer(options.discovery_period, recorder.discover, clock=steady)
     started = time.monotonic()
-    stop = _StopOnSignal()
+    stop = StopOnSignal()  # Ctrl-C in a callback would print a fatal traceback
     try:
         recorder.discover()
         while not recorder.finished() and not stop.requested:

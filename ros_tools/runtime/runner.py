@@ -75,7 +75,7 @@ def spin_until_shutdown(executor: Any, name: str = "process",
     """
     from rclpy.executors import ExternalShutdownException
 
-    stop = _StopOnSignal()
+    stop = StopOnSignal()
     try:
         while executor.context.ok() and not stop.requested and not (stopped is not None and stopped()):
             try:
@@ -92,8 +92,14 @@ def spin_until_shutdown(executor: Any, name: str = "process",
         stop.restore()
 
 
-class _StopOnSignal:
-    """While alive (main thread only), SIGINT and SIGTERM set ``requested`` instead of raising."""
+class StopOnSignal:
+    """While alive (main thread only), SIGINT and SIGTERM set ``requested`` instead of raising.
+
+    Why: Python raises KeyboardInterrupt wherever the main thread is, and while it spins that is
+    often a callback; the executor then logs an ordinary Ctrl-C as a fatal callback exception with
+    its traceback. A loop that checks ``requested`` between spins stops cleanly instead. Off the main
+    thread (a test calling a run function from a thread) nothing is installed.
+    """
 
     def __init__(self) -> None:
         import signal
@@ -109,6 +115,7 @@ class _StopOnSignal:
         self.requested = True
 
     def restore(self) -> None:
+        """Put the previous handlers back."""
         import signal
 
         for sig, handler in self._previous.items():
