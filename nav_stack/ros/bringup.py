@@ -118,17 +118,28 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
     def ready() -> bool:
         return active() and (map_from_slam or all(costmap.has_map for costmap in costmaps))
 
+    failed: list[str] = []
+
     def announce_when_active(_executor: Any, nodes: Any) -> None:
         def announce() -> None:
             if active():
                 print(COMPONENT_READY.format(name=name), flush=True)
                 managers[0].destroy_timer(timer)
+            elif any(manager.bringup_failed for manager in managers):
+                # Nav2's manager stays up after an aborted bringup and the launch would wait out its
+                # readiness timeout; ending the process ends the launch at once, with the cause above.
+                failed.extend(manager.get_name() for manager in managers if manager.bringup_failed)
+                print(f"bringup: component {name} failed: {', '.join(failed)} aborted the bringup "
+                      "(the node's error is above)", flush=True)
+                managers[0].destroy_timer(timer)
+                managers[0].context.try_shutdown()
 
         timer = managers[0].create_timer(0.2, announce, clock=Clock(clock_type=ClockType.STEADY_TIME))
 
     rclpy_args = ["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"]
-    return run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
+    code = run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
                      ready=ready, on_start=announce_when_active)
+    return 1 if failed else code
 
 
 def component_role(name: str) -> str:

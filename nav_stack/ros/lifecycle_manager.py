@@ -102,6 +102,7 @@ class LifecycleManager(Node):
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._commands = Serializer()  # one command (or bond recovery) at a time
         self.system_active = False
+        self.bringup_failed = False  # the last startup aborted (a node failed to configure or activate)
         self._heartbeats: dict[str, float] = {}  # node → steady time of its last active heartbeat
         self._bonded: set[str] = set()
         self._broken: set[str] = set()
@@ -153,9 +154,10 @@ class LifecycleManager(Node):
         if not (await self._all(Transition.TRANSITION_CONFIGURE)
                 and await self._all(Transition.TRANSITION_ACTIVATE)):
             self.get_logger().error("Failed to bring up all requested nodes. Aborting bringup.")
+            self.bringup_failed = True
             return False
         self._message("Managed nodes are active")
-        self.system_active = True
+        self.system_active, self.bringup_failed = True, False
         return True
 
     async def pause(self) -> bool:

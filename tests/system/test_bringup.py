@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -107,3 +109,22 @@ def test_bringup_exits_non_zero_when_the_simulator_is_killed():
         assert not [pid for pid in children if os.path.exists(f"/proc/{pid}")], "orphaned child processes"
     finally:
         stack.stop()
+
+
+@pytest.mark.ros
+@pytest.mark.slow
+def test_a_broken_map_ends_the_launch_with_the_cause_and_the_log_file(tmp_path: Path) -> None:
+    """map_server cannot configure: the manager aborts the bringup, and instead of waiting out the
+    readiness timeout the launch ends at once, showing map_server's error and where the full log is."""
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
+                      "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    command = [sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", "max", "--map", str(broken),
+               "--log-dir", str(tmp_path / "logs")]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=120.0)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert f"map image {tmp_path / 'nowhere.pgm'} does not exist" in done.stdout, done.stdout
+    assert "lifecycle_manager_localization aborted the bringup" in done.stdout, done.stdout
+    log = tmp_path / "logs" / "nav2.log"
+    assert f"last 15 lines of nav2 (all of them in {log})" in done.stdout, done.stdout
+    assert "Configuring" in log.read_text()
