@@ -21,7 +21,7 @@ import numpy as np
 
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.bringup import COMPONENT_READY, component_role
+from nav_stack.ros.bringup_components import COMPONENT_READY, component_role
 from ros_tools.launch import Launcher, ProcessSpec
 from tests.helpers.ros import REPO
 from tests.helpers.slam_world import dilate
