@@ -6,6 +6,9 @@ goal ≥ 35 m apart). "warm" = the
 planner's prepared graph is reused (costmap unchanged since the last plan, the usual case at a
 1 Hz global costmap); "cold" includes translating the costmap (first plan after an update).
 
+Issue 19's 2000 x 2000 map is planned twice, through the compiled search (what the planner uses)
+and through the pure-Python reference it is checked against, and the ratio is recorded.
+
 Run: ``.venv/bin/python -m bench.bench_planning`` (``--no-record`` to only print).
 """
 
@@ -20,7 +23,14 @@ from bench.harness import Benchmark
 from bench.worlds import random_obstacle_costmap, turtlebot3_world_costmap
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
-from nav_stack.core.planning import NavfnParams, NavfnPlanner, PlanningError, ThetaStarPlanner
+from nav_stack.core.planning import (
+    NavfnParams,
+    NavfnPlanner,
+    PlanningError,
+    ThetaStarPlanner,
+    grid_search,
+    grid_search_jit,
+)
 
 U8 = np.ndarray
 
@@ -48,7 +58,8 @@ def time_pairs(
     spec: GridSpec,
     pairs: list[tuple[Pose2D, Pose2D]],
     cold: bool = False,
-) -> None:
+) -> float:
+    """Time one plan per pair (the first is a warm-up) and record the row; the median in s."""
     it = iter(pairs)
 
     def plan() -> None:
@@ -66,6 +77,7 @@ def time_pairs(
         scale=1e3,
         note=f"{len(pairs) - 1} seeded start/goal pairs, load {os.getloadavg()[0]:.1f}",
     )
+    return stats.median
 
 
 def main() -> None:
@@ -127,7 +139,25 @@ def main() -> None:
         big_spec,
         big_pairs[:4],
     )
+    compiled_against_reference(bench)
     bench.save()
+
+
+def compiled_against_reference(bench: Benchmark) -> None:
+    """Issue 19's map, side by side in one run: 2000 x 2000 at 5 cm (100 m x 100 m, 1600 obstacles,
+    six seeded pairs more than 20 m apart), the same plans through the compiled search and through
+    the pure-Python reference; the ratio of the medians is recorded."""
+    big, big_spec = random_obstacle_costmap(2000, seed=2, n_obstacles=1600)
+    pairs = seeded_pairs(big, big_spec, 7, 20.0, seed=3)
+    for algorithm, astar in (("A*", True), ("Dijkstra", False)):
+        medians = {}
+        for name, search in (("compiled", grid_search_jit.search), ("reference", grid_search.search)):
+            params = NavfnParams(use_astar=astar, max_planning_time=60.0, max_iterations=10**7)
+            label = f"2000x2000 GridBased {algorithm} (warm, {name} search)"
+            medians[name] = time_pairs(bench, label, NavfnPlanner(params, search=search), big, big_spec,
+                                       pairs)
+        bench.record_value(f"2000x2000 GridBased {algorithm}: reference / compiled (medians)",
+                           medians["reference"] / medians["compiled"], "x", "same pairs, same run")
 
 
 if __name__ == "__main__":

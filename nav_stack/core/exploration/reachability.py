@@ -2,8 +2,8 @@
 
 Why a path distance: the nearest frontier as the crow flies may lie behind a wall; exploration
 ranks frontiers by the length (m) of the shortest 8-connected path through cells with enough
-clearance for the robot. The search itself is the planners' Dijkstra (planning.grid_search) run
-to exhaustion with unit cell costs, so there is one grid search in the code base.
+clearance for the robot. The search itself is the planners' Dijkstra (planning.grid_search, in its
+compiled form) run to exhaustion with unit cell costs, so there is one grid search in the code base.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ import numpy as np
 from nav_stack.core.costmap.distance import squared_distance_cells
 from nav_stack.core.exploration.frontiers import BoolArray, Occupancy, free_mask
 from nav_stack.core.grid import FloatArray, GridSpec
-from nav_stack.core.planning.grid_search import SearchGraph, search
+from nav_stack.core.planning.grid_search import SearchGraph
+from nav_stack.core.planning.grid_search_jit import search
 
 # path_distances searches a two-code grid: a traversable cell costs one step, a wall is impassable.
 _STEP, _WALL = 0, 1
@@ -57,10 +58,5 @@ def path_distances(traversable: BoolArray, spec: GridSpec, start: tuple[int, int
         max_iterations=codes.size + 1,
         deadline_passed=lambda: False,
     )
-    out = np.full(spec.width * spec.height, np.inf)
-    if result.g:
-        index = np.fromiter(result.g.keys(), dtype=np.int64, count=len(result.g))
-        value = np.fromiter(result.g.values(), dtype=np.float64, count=len(result.g))
-        row, col = np.divmod(index, graph.stride)
-        out[(row - 1) * spec.width + (col - 1)] = value * spec.resolution
-    return out.reshape(spec.shape)
+    inner = result.g.reshape(spec.height + 2, spec.width + 2)[1:-1, 1:-1]  # drop the padding border
+    return inner * spec.resolution

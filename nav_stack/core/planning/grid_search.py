@@ -141,23 +141,34 @@ def open_escape(
 
 @dataclass
 class SearchResult:
-    """Outcome of one search: the goal index if reached, the parent links and what was expanded."""
+    """Outcome of one search, on flat indices: the goal if reached, parent links (-1: none), the cost
+    g of every reached cell (inf: not reached) and which cells were expanded."""
 
     reached: int | None
-    parent: dict[int, int]
-    g: dict[int, float]
-    expanded: bytearray
+    parent: npt.NDArray[np.int64]
+    g: npt.NDArray[np.float64]
+    expanded: npt.NDArray[np.uint8]
     expansions: int
 
     def cells_to(self, graph: SearchGraph, index: int) -> list[tuple[int, int]]:
         """Cells (mx, my) from the start to ``index`` following the parent links."""
         chain = [index]
-        while chain[-1] in self.parent:
-            chain.append(self.parent[chain[-1]])
+        while self.parent[chain[-1]] >= 0:
+            chain.append(int(self.parent[chain[-1]]))
         return [graph.cell(i) for i in reversed(chain)]
 
     def was_expanded(self, index: int) -> bool:
-        return self.expanded[index] == _CLOSED_EXPANDED
+        return bool(self.expanded[index] == _CLOSED_EXPANDED)
+
+    @classmethod
+    def from_dicts(cls, reached: int | None, parent: dict[int, int], g: dict[int, float],
+                   closed: bytearray, expansions: int) -> SearchResult:
+        """The reference loop's dictionaries as arrays over the ``len(closed)`` flat cells."""
+        parents = np.full(len(closed), -1, dtype=np.int64)
+        parents[list(parent)] = list(parent.values())
+        costs = np.full(len(closed), math.inf)
+        costs[list(g)] = list(g.values())
+        return cls(reached, parents, costs, np.frombuffer(bytes(closed), dtype=np.uint8), expansions)
 
 
 def search(
@@ -201,7 +212,7 @@ def search(
             continue
         closed[cur] = _CLOSED_EXPANDED
         if cur == goal:
-            return SearchResult(cur, parent, g, closed, expansions)
+            return SearchResult.from_dicts(cur, parent, g, closed, expansions)
         expansions += 1
         if expansions > max_iterations:
             raise SearchTimeoutError(f"iteration cap of {max_iterations} expansions reached")
@@ -220,4 +231,4 @@ def search(
                 dx = nx - gx if nx > gx else gx - nx
                 dy = ny - gy if ny > gy else gy - ny
                 push(heap, (ng + (dx + dy) * h_straight + (dx if dx < dy else dy) * h_diag, n))
-    return SearchResult(None, parent, g, closed, expansions)
+    return SearchResult.from_dicts(None, parent, g, closed, expansions)

@@ -34,10 +34,14 @@ from nav_stack.core.planning.grid_search import (
     COST_FACTOR,
     NEUTRAL_COST,
     SearchGraph,
+    SearchResult,
     SearchTimeoutError,
     navfn_cost_table,
-    search,
 )
+from nav_stack.core.planning.grid_search_jit import search as compiled_search
+from nav_stack.core.planning.grid_search_jit import warm_up
+
+Search = Callable[[SearchGraph, int, int, bool, int, Callable[[], bool]], SearchResult]
 
 #: NavFn's traversal cost of an inscribed cell, charged only while escaping an inscribed band.
 ESCAPE_COST = NEUTRAL_COST + COST_FACTOR * 253
@@ -70,10 +74,16 @@ class NavfnPlanner:
     """
 
     def __init__(
-        self, params: NavfnParams | None = None, clock: Callable[[], float] = time.monotonic
+        self, params: NavfnParams | None = None, clock: Callable[[], float] = time.monotonic,
+        search: Search = compiled_search,
     ) -> None:
+        """``search``: the compiled grid search, or the pure-Python reference (grid_search.search,
+        which gives the same plans: the benchmark compares them)."""
         self.params = params or NavfnParams()
         self._clock = clock
+        self._search = search
+        if search is compiled_search:
+            warm_up()  # compile now, not inside the first plan's max_planning_time
         self._cached_costs: CostArray | None = None
         self._graph: SearchGraph | None = None
 
@@ -106,7 +116,7 @@ class NavfnPlanner:
             )
         deadline = self._clock() + self.params.max_planning_time
         try:
-            result = search(
+            result = self._search(
                 graph,
                 graph.index(*start_cell),
                 graph.index(*candidates[0]),
