@@ -30,6 +30,7 @@ from nav_stack.core.planning import (
     ThetaStarPlanner,
     grid_search,
     grid_search_jit,
+    theta_star,
 )
 
 U8 = np.ndarray
@@ -110,7 +111,11 @@ def main() -> None:
         spec,
         pairs,
     )
-    time_pairs(bench, "TB3 384x384 Theta*", ThetaStarPlanner(), costs, spec, pairs[:31])
+    theta = time_pairs(bench, "TB3 384x384 Theta*", ThetaStarPlanner(), costs, spec, pairs[:31])
+    theta_reference = time_pairs(bench, "TB3 384x384 Theta* (reference search)",
+                                 ThetaStarPlanner(search=theta_star.search), costs, spec, pairs[:31])
+    bench.record_value("TB3 384x384 Theta*: reference / compiled (medians)", theta_reference / theta, "x",
+                       "same pairs, same run")
 
     big, big_spec = random_obstacle_costmap(1000, seed=2, n_obstacles=100)
     big_pairs = seeded_pairs(big, big_spec, 11, 35.0, seed=3)

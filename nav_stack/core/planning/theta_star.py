@@ -67,6 +67,14 @@ def theta_cost_table(allow_unknown: bool) -> list[float]:
     return table
 
 
+def cell_distance(dx: int, dy: int) -> float:
+    """|(dx, dy)| in cells, as sqrt of the exact integer sum (the compiled search computes the same bits)."""
+    return math.sqrt(dx * dx + dy * dy)
+
+
+ThetaSearch = Callable[["SearchGraph", int, int, "ThetaStarParams", Callable[[], bool]], list[int]]
+
+
 def segment_mean_cost(graph: SearchGraph, a: int, b: int) -> float:
     """Mean cell cost over the supercover of segment a→b (flat padded indices); inf when blocked."""
     stride, codes, table, blocked = graph.stride, graph.codes, graph.table, graph.blocked
@@ -104,10 +112,18 @@ class ThetaStarPlanner:
     """Any-angle planner; the path is densified to ~resolution spacing."""
 
     def __init__(
-        self, params: ThetaStarParams | None = None, clock: Callable[[], float] = time.monotonic
+        self, params: ThetaStarParams | None = None, clock: Callable[[], float] = time.monotonic,
+        search: ThetaSearch | None = None,
     ) -> None:
+        """``search``: None for the compiled search (theta_star_jit), or the reference ``search`` of
+        this module, which gives the same chains (tests/unit/nav_stack/test_theta_star_jit.py)."""
+        from nav_stack.core.planning import theta_star_jit
+
         self.params = params or ThetaStarParams()
         self._clock = clock
+        if search is None:
+            theta_star_jit.warm_up()  # compile now, not inside the first plan's max_planning_time
+        self._search = search or theta_star_jit.search
 
     def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray:
         check_costmap(costs, spec)
@@ -121,7 +137,9 @@ class ThetaStarPlanner:
                 PlanErrorCode.GOAL_OCCUPIED,
                 f"goal cell {goal_cell} has cost {costs[goal_cell[1], goal_cell[0]]}",
             )
-        chain = self._search(graph, graph.index(*start_cell), graph.index(*goal_cell))
+        deadline = self._clock() + self.params.max_planning_time
+        chain = self._search(graph, graph.index(*start_cell), graph.index(*goal_cell), self.params,
+                             lambda: self._clock() > deadline)
         points = cell_centres(spec, [graph.cell(i) for i in chain])
         if len(points) == 1:
             points = np.vstack((points, points))
@@ -129,60 +147,66 @@ class ThetaStarPlanner:
         points[-1] = (goal.x, goal.y)
         return build_path(points, goal.yaw, spec.resolution)
 
-    def _search(self, graph: SearchGraph, start: int, goal: int) -> list[int]:
-        p = self.params
-        stride = graph.stride
-        steps = [-1, 1, -stride, stride]
-        if p.how_many_corners == 8:
-            steps += [-stride - 1, -stride + 1, stride - 1, stride + 1]
-        gy, gx = divmod(goal, stride)
-        w_h = min(p.w_euc_cost, 1.0)
-        closed = bytearray(graph.blocked)
-        g: dict[int, float] = {start: 0.0}
-        parent: dict[int, int] = {start: start}
-        heap: list[tuple[float, int]] = [(0.0, start)]
-        deadline = self._clock() + p.max_planning_time
-        expansions = 0
 
-        def move_cost(a: int, b: int) -> float:
-            ay, ax = divmod(a, stride)
-            by, bx = divmod(b, stride)
-            mean = segment_mean_cost(graph, a, b)
-            return (p.w_euc_cost + p.w_traversal_cost * mean) * math.hypot(bx - ax, by - ay)
+def search(graph: SearchGraph, start: int, goal: int, params: ThetaStarParams,
+           deadline_passed: Callable[[], bool]) -> list[int]:
+    """The reference Theta* search (pure Python): the chain of flat indices from ``start`` to ``goal``.
 
-        while heap:
-            _, cur = heapq.heappop(heap)
-            if closed[cur]:
+    Raises PlanningError: TIMEOUT past ``max_iterations`` expansions or once ``deadline_passed()``
+    (polled every 512 expansions), NO_VALID_PATH when the goal cannot be reached.
+    """
+    p = params
+    stride = graph.stride
+    steps = [-1, 1, -stride, stride]
+    if p.how_many_corners == 8:
+        steps += [-stride - 1, -stride + 1, stride - 1, stride + 1]
+    gy, gx = divmod(goal, stride)
+    w_h = min(p.w_euc_cost, 1.0)
+    closed = bytearray(graph.blocked)
+    g: dict[int, float] = {start: 0.0}
+    parent: dict[int, int] = {start: start}
+    heap: list[tuple[float, int]] = [(0.0, start)]
+    expansions = 0
+
+    def move_cost(a: int, b: int) -> float:
+        ay, ax = divmod(a, stride)
+        by, bx = divmod(b, stride)
+        mean = segment_mean_cost(graph, a, b)
+        return (p.w_euc_cost + p.w_traversal_cost * mean) * cell_distance(bx - ax, by - ay)
+
+    while heap:
+        _, cur = heapq.heappop(heap)
+        if closed[cur]:
+            continue
+        closed[cur] = 2
+        if cur == goal:
+            chain = [goal]
+            while chain[-1] != start:
+                chain.append(parent[chain[-1]])
+            return chain[::-1]
+        expansions += 1
+        if expansions > p.max_iterations:
+            raise PlanningError(PlanErrorCode.TIMEOUT, f"iteration cap of {p.max_iterations} reached")
+        if expansions % _DEADLINE_CHECK_EVERY == 0 and deadline_passed():
+            raise PlanningError(
+                PlanErrorCode.TIMEOUT,
+                f"max_planning_time {p.max_planning_time} s passed after {expansions} expansions",
+            )
+        par = parent[cur]
+        for step in steps:
+            n = cur + step
+            if closed[n]:
                 continue
-            closed[cur] = 2
-            if cur == goal:
-                chain = [goal]
-                while chain[-1] != start:
-                    chain.append(parent[chain[-1]])
-                return chain[::-1]
-            expansions += 1
-            if expansions > p.max_iterations:
-                raise PlanningError(PlanErrorCode.TIMEOUT, f"iteration cap of {p.max_iterations} reached")
-            if expansions % _DEADLINE_CHECK_EVERY == 0 and self._clock() > deadline:
-                raise PlanningError(
-                    PlanErrorCode.TIMEOUT,
-                    f"max_planning_time {p.max_planning_time} s passed after {expansions} expansions",
-                )
-            par = parent[cur]
-            for step in steps:
-                n = cur + step
-                if closed[n]:
-                    continue
-                best, best_parent = g[cur] + move_cost(cur, n), cur
-                if par != cur:
-                    via_parent = g[par] + move_cost(par, n)
-                    if via_parent <= best:
-                        best, best_parent = via_parent, par
-                if best < g.get(n, math.inf):
-                    g[n] = best
-                    parent[n] = best_parent
-                    ny, nx = divmod(n, stride)
-                    heapq.heappush(heap, (best + w_h * math.hypot(nx - gx, ny - gy), n))
-        raise PlanningError(
-            PlanErrorCode.NO_VALID_PATH, f"no path from {graph.cell(start)} to {graph.cell(goal)}"
-        )
+            best, best_parent = g[cur] + move_cost(cur, n), cur
+            if par != cur:
+                via_parent = g[par] + move_cost(par, n)
+                if via_parent <= best:
+                    best, best_parent = via_parent, par
+            if best < g.get(n, math.inf):
+                g[n] = best
+                parent[n] = best_parent
+                ny, nx = divmod(n, stride)
+                heapq.heappush(heap, (best + w_h * cell_distance(nx - gx, ny - gy), n))
+    raise PlanningError(
+        PlanErrorCode.NO_VALID_PATH, f"no path from {graph.cell(start)} to {graph.cell(goal)}"
+    )
