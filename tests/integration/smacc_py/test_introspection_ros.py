@@ -95,7 +95,9 @@ def test_topics_and_history_service_describe_the_mission(stack, ros_context) -> 
 def test_event_log_and_status_follow_a_key_press(stack, ros_context) -> None:  # type: ignore[no-untyped-def]
     from std_msgs.msg import UInt16
 
-    _fake, runtime = stack(SmNav2Test1, bond_nodes=())
+    # No bonds: only the key leaves StAllSensorsGo. No AMCL answer: StSetInitialPose stays the current
+    # state long enough to be seen (with an answer it moves on within a tick, before a status is read).
+    _fake, runtime = stack(SmNav2Test1, bond_nodes=(), amcl_echo=False)
     probe = rclpy.create_node("event_probe", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(probe)
