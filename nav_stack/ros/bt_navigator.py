@@ -74,7 +74,7 @@ class BtNavigatorParams:
     robot_base_frame: str = "base_link"
     odom_topic: str = "odom"
     bt_loop_duration: int = 10  # ms between ticks
-    default_server_timeout: int = 20  # ms a server may take to acknowledge a goal or answer
+    default_server_timeout: int = 20  # ms (node clock, so sim time) a server may take to answer
     wait_for_service_timeout: int = 1000  # ms a leaf waits for its server to appear
     action_server_result_timeout: float = 900.0  # s results stay available to clients
     default_nav_to_pose_bt_xml: str = ""  # "" = config/trees/navigate_to_pose_w_replanning_and_recovery.xml
