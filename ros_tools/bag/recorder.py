@@ -213,15 +213,24 @@ def spin_for(executor: Any, seconds: float) -> None:
 
 
 def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict[str, int]:
-    """Record until ``max_duration``, Ctrl-C/SIGTERM (KeyboardInterrupt) or a missing topic.
+    """Record until ``max_duration``, Ctrl-C/SIGTERM or a missing topic.
 
-    The file is always closed with its summary, also when recording ends with an error.
-    Returns the message count per topic.
+    The file is always closed with its summary, also when recording ends with an error. Ctrl-C and
+    SIGTERM only raise a flag, from the very start: one that lands in a callback would otherwise be
+    printed as a fatal callback exception, and one that lands while the node is being set up would
+    end the command without closing the file (CI run AW). Returns the message count per topic.
 
     Raises:
         BagError: a listed topic did not get a publisher within ``topic_timeout``.
     """
-    status = status or StatusLine()
+    stop = StopOnSignal()
+    try:
+        return _record(options, status or StatusLine(), stop)
+    finally:
+        stop.restore()
+
+
+def _record(options: RecordOptions, status: StatusLine, stop: StopOnSignal) -> dict[str, int]:
     writer = BagWriter(options.output, options.compression)  # fails early on an unwritable path
     context = rclpy.Context()
     rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
@@ -233,7 +242,6 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
     steady = Clock(clock_type=ClockType.STEADY_TIME)
     node.create_timer(options.discovery_period, recorder.discover, clock=steady)
     started = time.monotonic()
-    stop = StopOnSignal()  # Ctrl-C in a callback would print a fatal traceback
     try:
         recorder.discover()
         while not recorder.finished() and not stop.requested:
@@ -245,10 +253,9 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
             total = sum(recorder.counts.values())
             status.update(f"recording {recorder.elapsed:6.1f} s  {total} msgs  "
                           f"{topic_counts(recorder.counts)}")
-    except KeyboardInterrupt:
+    except KeyboardInterrupt:  # off the main thread no flag is installed
         pass
     finally:
-        stop.restore()
         elapsed = recorder.elapsed
         writer.close()
         executor.shutdown()
