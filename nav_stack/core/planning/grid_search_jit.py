@@ -126,6 +126,30 @@ def _expand(codes: npt.NDArray[np.uint8], table: npt.NDArray[np.float64], closed
     return EXHAUSTED, size, expansions
 
 
+class SearchArrays:
+    """What one compiled search works on, started at ``start``: the graph's codes, cost table and
+    blocked cells as arrays, the closed marks, g (inf: not reached), parent links (-1: none) and the
+    heap (``keys``, ``items``, ``size``). Shared by grid and Theta* searches."""
+
+    def __init__(self, graph: SearchGraph, start: int) -> None:
+        cells = len(graph.codes)
+        self.codes = np.frombuffer(graph.codes, dtype=np.uint8)
+        self.table = np.asarray(graph.table, dtype=np.float64)
+        self.blocked = np.frombuffer(graph.blocked, dtype=np.uint8)
+        self.closed = self.blocked.copy()
+        self.g = np.full(cells, math.inf)
+        self.g[start] = 0.0
+        self.parent = np.full(cells, -1, dtype=np.int64)
+        self.keys, self.items = np.empty(1 << 16), np.empty(1 << 16, dtype=np.int64)
+        self.keys[0], self.items[0], self.size = 0.0, start, 1
+
+    def make_room(self, pushes: int) -> None:
+        """Grow the heap (doubling) until ``pushes`` more entries fit: a slice cannot reallocate."""
+        while len(self.keys) < self.size + pushes:
+            self.keys = np.concatenate([self.keys, np.empty(len(self.keys))])
+            self.items = np.concatenate([self.items, np.empty(len(self.items), dtype=np.int64)])
+
+
 def warm_up() -> None:
     """Compile (or load from the cache) the search now, on a 3 x 3 grid."""
     graph = SearchGraph.build(np.zeros((3, 3), dtype=np.uint8), [1.0] * 256)
@@ -141,31 +165,20 @@ def search(
     deadline_passed: Callable[[], bool],
 ) -> SearchResult:
     """grid_search.search, compiled: the same arguments, result and SearchTimeoutError."""
-    cells = len(graph.codes)
-    codes = np.frombuffer(graph.codes, dtype=np.uint8)
-    table = np.asarray(graph.table, dtype=np.float64)
-    closed = np.frombuffer(graph.blocked, dtype=np.uint8).copy()
-    g = np.full(cells, math.inf)
-    parent = np.full(cells, -1, dtype=np.int64)
-    g[start] = 0.0
-    capacity = 8 * _DEADLINE_CHECK_EVERY + 1
-    keys, items = np.empty(capacity), np.empty(capacity, dtype=np.int64)
-    keys[0], items[0], size = 0.0, start, 1
+    a = SearchArrays(graph, start)
     h_straight = NEUTRAL_COST * _TIE_BREAK if use_astar else 0.0
     expansions = 0
     while True:
-        if len(keys) < size + 8 * _DEADLINE_CHECK_EVERY + 1:  # room for one slice's pushes
-            keys = np.concatenate([keys, np.empty(len(keys))])
-            items = np.concatenate([items, np.empty(len(items), dtype=np.int64)])
         # up to max_iterations + 1: the reference fails on the pop past the cap, unless it is the goal
         budget = min(_DEADLINE_CHECK_EVERY, max_iterations + 1 - expansions)
-        status, size, done = _expand(codes, table, closed, g, parent, keys, items, size, goal,
-                                     graph.stride, h_straight, budget)
+        a.make_room(8 * budget)
+        status, a.size, done = _expand(a.codes, a.table, a.closed, a.g, a.parent, a.keys, a.items, a.size,
+                                       goal, graph.stride, h_straight, budget)
         expansions += done
         if status == REACHED:
-            return SearchResult(goal, parent, g, closed, expansions)
+            return SearchResult(goal, a.parent, a.g, a.closed, expansions)
         if status == EXHAUSTED:
-            return SearchResult(None, parent, g, closed, expansions)
+            return SearchResult(None, a.parent, a.g, a.closed, expansions)
         if expansions > max_iterations:
             raise SearchTimeoutError(f"iteration cap of {max_iterations} expansions reached")
         if deadline_passed():

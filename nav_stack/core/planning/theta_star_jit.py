@@ -16,11 +16,9 @@ import numpy.typing as npt
 from numba import njit
 
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
-from nav_stack.core.planning.grid_search import SearchGraph
-from nav_stack.core.planning.grid_search_jit import EXHAUSTED, REACHED, SLICE_DONE, _pop, _push
+from nav_stack.core.planning.grid_search import _CLOSED_EXPANDED, SearchGraph
+from nav_stack.core.planning.grid_search_jit import EXHAUSTED, REACHED, SLICE_DONE, SearchArrays, _pop, _push
 from nav_stack.core.planning.theta_star import _DEADLINE_CHECK_EVERY, ThetaStarParams
-
-_CLOSED_EXPANDED = 2
 
 
 @njit(cache=True)
@@ -114,30 +112,20 @@ def warm_up() -> None:
 def search(graph: SearchGraph, start: int, goal: int, params: ThetaStarParams,
            deadline_passed: Callable[[], bool]) -> list[int]:
     """theta_star.search, compiled: the same arguments, chain and PlanningErrors."""
-    cells = len(graph.codes)
-    codes = np.frombuffer(graph.codes, dtype=np.uint8)
-    table = np.asarray(graph.table, dtype=np.float64)
-    blocked = np.frombuffer(graph.blocked, dtype=np.uint8)
-    closed = blocked.copy()
-    g = np.full(cells, math.inf)
-    parent = np.full(cells, -1, dtype=np.int64)
-    g[start], parent[start] = 0.0, start
-    keys, items = np.empty(1 << 16), np.empty(1 << 16, dtype=np.int64)
-    keys[0], items[0], size = 0.0, start, 1
+    a = SearchArrays(graph, start)
+    a.parent[start] = start
     expansions = 0
     while True:
-        if len(keys) < size + 8 * _DEADLINE_CHECK_EVERY + 1:
-            keys = np.concatenate([keys, np.empty(len(keys))])
-            items = np.concatenate([items, np.empty(len(items), dtype=np.int64)])
         budget = min(_DEADLINE_CHECK_EVERY, params.max_iterations + 1 - expansions)
-        status, size, done = _expand(codes, table, blocked, closed, g, parent, keys, items, size, goal,
-                                     graph.stride, params.how_many_corners, params.w_euc_cost,
-                                     params.w_traversal_cost, budget)
+        a.make_room(8 * budget)
+        status, a.size, done = _expand(a.codes, a.table, a.blocked, a.closed, a.g, a.parent, a.keys, a.items,
+                                       a.size, goal, graph.stride, params.how_many_corners, params.w_euc_cost,
+                                       params.w_traversal_cost, budget)
         expansions += done
         if status == REACHED:
             chain = [goal]
             while chain[-1] != start:
-                chain.append(int(parent[chain[-1]]))
+                chain.append(int(a.parent[chain[-1]]))
             return chain[::-1]
         if status == EXHAUSTED:
             raise PlanningError(PlanErrorCode.NO_VALID_PATH,
