@@ -5,13 +5,25 @@ Import the public API from here::
     from smacc_py.core import (SmaccStateMachineBase, SmaccState, Transition, SUCCESS, ABORT,
                                Orthogonal, ISmaccClient, SmaccClientBehavior, EvCbSuccess)
 
-Modules: ``events`` (parameterised event classes), ``tags``, ``transition`` (``Transition``,
-``History``), ``state`` (``SmaccState`` declarations), ``model`` (compile + validate), ``state_machine``
-(queue and dispatch), ``assembly`` (building orthogonals, clients, components; substitutes),
-``lifecycle`` (entry/exit order), ``orthogonal``, ``client`` (clients, components),
-``client_behavior`` (sync/async behaviors), ``reactors``, ``event_generators``, ``updatable``,
-``global_data``, ``observer``, ``introspection`` (smacc2_msgs-shaped description), ``graph_export``
-(Mermaid/DOT), ``params``, ``errors``.
+The modules form a stack, listed bottom-up; each imports only from the layers below it (an
+import-linter ``layers`` contract in pyproject.toml checks this, TYPE_CHECKING imports included).
+
+1. Foundations: ``errors`` (exception types), ``tags`` (``SUCCESS``, ``ABORT`` ...), ``params``
+   (``SmaccEngineParams``), ``updatable`` (``ISmaccUpdatable``).
+2. ``events`` (parameterised event classes) and ``global_data`` (the machine's blackboard).
+3. ``transition``: ``Transition`` and ``History`` declarations.
+4. ``ports``: the protocols through which parts reach their machine and state (``MachinePort``,
+   ``StatePort``), so that nothing below the machine imports it.
+5. Parts a state declares: ``client`` (clients, components), then ``client_behavior`` (sync/async
+   behaviors), ``reactors`` and ``event_generators``, then ``orthogonal`` (holds clients and behaviors).
+6. ``state``: ``SmaccState`` declarations.
+7. ``model``: compiles and validates a machine class.
+8. ``introspection``: the smacc2_msgs-shaped description of a compiled model.
+9. Engine pieces: ``assembly`` (building orthogonals, clients, components; substitutes), ``lifecycle``
+   (entry/exit order), ``observer`` (callbacks, transition records), ``state_machine_queries``
+   (read-only lookups).
+10. ``state_machine``: ``SmaccStateMachineBase``, the queue and run-to-completion dispatch.
+11. ``graph_export``: Mermaid/DOT text of a machine.
 """
 
 from smacc_py.core.client import ISmaccClient, ISmaccComponent

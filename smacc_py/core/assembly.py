@@ -48,7 +48,8 @@ def check_substitutes(substitutes: Mapping[type, StandInFactory] | None) -> dict
 
 
 class MachineAssembly:
-    """Creation of orthogonals, clients and components, and the checks that run before the first state."""
+    """Creation of orthogonals, clients and components, and the checks that run before the first state
+    (SMACC2: ``ISmaccStateMachine::createOrthogonal`` and the orthogonals' ``initialize``)."""
 
     # Set by SmaccStateMachineBase.__init__.
     name: str

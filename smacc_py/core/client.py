@@ -5,32 +5,32 @@ as the machine; it owns components (``client.create_component``), reusable piece
 with ``requires_component``. The core classes know nothing about ROS: the ROS layer subclasses them.
 ``on_initialize`` of every client, then of every component, runs after all orthogonals exist, so a
 component may look up components of other clients.
+
+This module sits below the orthogonal and the machine: a client reaches them through ``OrthogonalPort``
+(declared here, implemented by ``Orthogonal``) and ``MachinePort``.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
-from smacc_py.core.errors import SmaccLookupError
 from smacc_py.core.events import SmaccEvent
-
-if TYPE_CHECKING:
-    from smacc_py.core.orthogonal import Orthogonal
-    from smacc_py.core.state_machine import SmaccStateMachineBase
+from smacc_py.core.ports import MachinePort
 
 C = TypeVar("C")
 
 
 class ISmaccClient:
-    """Base of every client. Subclasses override ``on_initialize`` and post events with ``post_event``."""
+    """Base of every client (``smacc2::ISmaccClient``). Subclasses override ``on_initialize`` and post
+    events with ``post_event``."""
 
-    orthogonal: Orthogonal
-    sm: SmaccStateMachineBase
+    orthogonal: OrthogonalPort
+    sm: MachinePort
     components: list[ISmaccComponent]
     #: The type the orthogonal asked for: this class, or the one it stands in for (a substitute).
     client_type: type
 
-    def _attach(self, orthogonal: Orthogonal, client_type: type | None = None) -> None:
+    def _attach(self, orthogonal: OrthogonalPort, client_type: type | None = None) -> None:
         self.orthogonal = orthogonal
         self.sm = orthogonal.sm
         self.components = []
@@ -69,10 +69,10 @@ class ISmaccClient:
 
 
 class ISmaccComponent:
-    """Base of every component; owned by one client."""
+    """Base of every component (``smacc2::ISmaccComponent``); owned by one client."""
 
     owner: ISmaccClient
-    sm: SmaccStateMachineBase
+    sm: MachinePort
 
     def _attach(self, owner: ISmaccClient) -> None:
         self.owner = owner
@@ -101,6 +101,17 @@ class ISmaccComponent:
         self.sm.post_event(event)
 
 
-def missing(kind: str, wanted: type, who: str, where: str) -> SmaccLookupError:
-    """A SmaccLookupError whose message names what was wanted, who asked and where it looked."""
-    return SmaccLookupError(f"{who}: no {kind} of type {wanted.__name__} in {where}")
+class OrthogonalPort(Protocol):
+    """What clients and behaviors ask of the orthogonal that holds them (``smacc2::ISmaccOrthogonal``);
+    ``Orthogonal`` implements it."""
+
+    @property
+    def sm(self) -> MachinePort:
+        """The machine the orthogonal belongs to."""
+
+    @property
+    def clients(self) -> list[ISmaccClient]:
+        """The orthogonal's clients, in creation order."""
+
+    def get_client(self, client_type: type[C]) -> C | None:
+        """The first client that is an instance of ``client_type``, or None."""

@@ -12,35 +12,36 @@
 
 Every event a behavior posts has CURRENT_STATE lifetime: it carries the sequence number of the state
 instance that owns the behavior and is dropped once that instance has begun to exit.
+
+Behaviors sit below the orthogonal, the state and the machine (a state declaration names its behavior
+classes); they reach those through ``OrthogonalPort``, ``StatePort`` and ``MachinePort``.
 """
 
 from __future__ import annotations
 
 import logging
 import threading
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
-from smacc_py.core.client import missing
+from smacc_py.core.client import OrthogonalPort
+from smacc_py.core.errors import missing
 from smacc_py.core.events import EvCbFailure, EvCbFinished, EvCbSuccess, SmaccEvent
-
-if TYPE_CHECKING:
-    from smacc_py.core.orthogonal import Orthogonal
-    from smacc_py.core.state import SmaccState
-    from smacc_py.core.state_machine import SmaccStateMachineBase
+from smacc_py.core.ports import MachinePort, StatePort
 
 _log = logging.getLogger("smacc_py")
 C = TypeVar("C")
 
 
 class ISmaccClientBehavior:
-    """Common base of sync and async behaviors. The engine attaches it before ``runtime_configure``."""
+    """Common base of sync and async behaviors (``smacc2::ISmaccClientBehavior``). The engine attaches it
+    before ``runtime_configure``."""
 
-    orthogonal: Orthogonal
-    state: SmaccState
-    sm: SmaccStateMachineBase
+    orthogonal: OrthogonalPort
+    state: StatePort
+    sm: MachinePort
     _seq: int
 
-    def _attach(self, orthogonal: Orthogonal, state: SmaccState) -> None:
+    def _attach(self, orthogonal: OrthogonalPort, state: StatePort) -> None:
         self.orthogonal = orthogonal
         self.state = state
         self.sm = state.sm
@@ -57,11 +58,11 @@ class ISmaccClientBehavior:
         """Clean up when the owning state exits (runs on the machine thread; must not block)."""
 
     # ------------------------------------------------------------------ helpers
-    def get_current_state(self) -> SmaccState:
+    def get_current_state(self) -> StatePort:
         """The state instance that owns this behavior."""
         return self.state
 
-    def get_state_machine(self) -> SmaccStateMachineBase:
+    def get_state_machine(self) -> MachinePort:
         """The machine."""
         return self.sm
 
@@ -105,11 +106,13 @@ class ISmaccClientBehavior:
 
 
 class SmaccClientBehavior(ISmaccClientBehavior):
-    """A synchronous behavior: ``on_entry`` and ``on_exit`` run on the machine thread."""
+    """A synchronous behavior (``smacc2::SmaccClientBehavior``): ``on_entry`` and ``on_exit`` run on the
+    machine thread."""
 
 
 class SmaccAsyncClientBehavior(ISmaccClientBehavior):
-    """A behavior whose ``on_entry`` runs in its own thread with cooperative cancellation.
+    """A behavior whose ``on_entry`` runs in its own thread with cooperative cancellation
+    (``smacc2::SmaccAsyncClientBehavior``).
 
     Attributes:
         join_timeout_s: bound (s) on waiting for ``on_entry`` after the shutdown request; None uses the

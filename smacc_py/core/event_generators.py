@@ -3,30 +3,27 @@
 Declared in ``static_configure`` with ``static_create_event_generator(EgX, *args)``. The library
 generator ``EgConditionalGenerator`` evaluates a predicate once on entry (``ONE_SHOT``) or on every
 ``update()`` poll (``ON_UPDATE``) and posts ``EvTrue[EgConditionalGenerator, State]`` or ``EvFalse[...]``.
+Generators sit below the state that declares them and reach it through ``StatePort``.
 """
 
 from __future__ import annotations
 
 import enum
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from smacc_py.core.events import EvFalse, EvTrue, SmaccEvent
+from smacc_py.core.ports import MachinePort, StatePort
 from smacc_py.core.updatable import ISmaccUpdatable
-
-if TYPE_CHECKING:
-    from smacc_py.core.state import SmaccState
-    from smacc_py.core.state_machine import SmaccStateMachineBase
 
 
 class SmaccEventGenerator:
-    """Base of every event generator."""
+    """Base of every event generator (``smacc2::SmaccEventGenerator``)."""
 
-    state: SmaccState
-    sm: SmaccStateMachineBase
+    state: StatePort
+    sm: MachinePort
     _seq: int
 
-    def _attach(self, state: SmaccState) -> None:
+    def _attach(self, state: StatePort) -> None:
         self.state = state
         self.sm = state.sm
         self._seq = state.seq
@@ -43,7 +40,10 @@ class SmaccEventGenerator:
 
 
 class ConditionalGeneratorMode(enum.Enum):
-    """When EgConditionalGenerator evaluates its predicate."""
+    """When EgConditionalGenerator evaluates its predicate.
+
+    SMACC2: ``smacc2::event_generators::ConditionalGeneratorMode``.
+    """
 
     ONE_SHOT = "one_shot"
     """Once, on state entry."""
@@ -52,7 +52,8 @@ class ConditionalGeneratorMode(enum.Enum):
 
 
 class EgConditionalGenerator(SmaccEventGenerator, ISmaccUpdatable):
-    """Posts ``EvTrue``/``EvFalse`` parameterised by (this generator type, owning state type)."""
+    """Posts ``EvTrue``/``EvFalse`` parameterised by (this generator type, owning state type)
+    (``smacc2::event_generators::EgConditionalGenerator``)."""
 
     def __init__(self, mode: ConditionalGeneratorMode, predicate: Callable[[], bool]) -> None:
         if not isinstance(mode, ConditionalGeneratorMode):

@@ -70,6 +70,9 @@ class EventMeta(type):
 class SmaccEvent(metaclass=EventMeta):
     """Base of every event. Subclass it for user events; parameterise with ``Ev[Source, Orthogonal]``.
 
+    SMACC2 events derive from ``boost::statechart::event<Ev>`` and are templates over their source and
+    orthogonal; ``EvX[Source, Or]`` is the Python spelling of ``EvX<Source, Or>``.
+
     Keyword arguments given to the constructor become instance attributes (the payload). Payload names
     may not shadow the parameter names (``source``, ``orthogonal`` ...).
     """
@@ -117,78 +120,105 @@ SmaccEvent._specializations = {}
 
 # --------------------------------------------------------------------------- client behavior events
 class EvCbSuccess(SmaccEvent):
-    """A client behavior reported success (``post_success_event``)."""
+    """A client behavior reported success (``post_success_event``). SMACC2: ``smacc2::EvCbSuccess``."""
 
     default_transition_tag = SUCCESS
 
 
 class EvCbFailure(SmaccEvent):
-    """A client behavior reported failure (``post_failure_event``) or its ``on_entry`` raised."""
+    """A client behavior reported failure (``post_failure_event``) or its ``on_entry`` raised.
+
+    SMACC2: ``smacc2::EvCbFailure``.
+    """
 
     default_transition_tag = ABORT
 
 
 class EvCbFinished(SmaccEvent):
-    """An asynchronous client behavior's ``on_entry`` returned (posted automatically)."""
+    """An asynchronous client behavior's ``on_entry`` returned (posted automatically).
+
+    SMACC2: ``smacc2::EvCbFinished``.
+    """
 
     default_transition_tag = SUCCESS
 
 
 # --------------------------------------------------------------------------- action client events
 class EvActionSucceeded(SmaccEvent):
-    """An action goal succeeded; parameters are (client, orthogonal)."""
+    """An action goal succeeded; parameters are (client, orthogonal).
+
+    SMACC2: ``smacc2::default_events::EvActionSucceeded``.
+    """
 
     default_transition_tag = SUCCESS
 
 
 class EvActionAborted(SmaccEvent):
-    """An action goal was aborted by the server."""
+    """An action goal was aborted by the server. SMACC2: ``smacc2::default_events::EvActionAborted``."""
 
     default_transition_tag = ABORT
 
 
 class EvActionCancelled(SmaccEvent):
-    """An action goal was cancelled."""
+    """An action goal was cancelled. SMACC2: ``smacc2::default_events::EvActionCancelled``."""
 
     default_transition_tag = CANCEL
 
 
 class EvActionFeedback(SmaccEvent):
-    """Action feedback arrived (payload ``feedback``)."""
+    """Action feedback arrived (payload ``feedback``).
+
+    SMACC2: ``smacc2::default_events::EvActionFeedback``.
+    """
 
 
 class EvActionResult(SmaccEvent):
-    """An action result arrived, whatever its status (payload ``result``)."""
+    """An action result arrived, whatever its status (payload ``result``).
+
+    SMACC2: ``smacc2::default_events::EvActionResult``.
+    """
 
 
 # --------------------------------------------------------------------------- service events
 class EvServiceResponse(SmaccEvent):
-    """A service call returned (payload ``response``)."""
+    """A service call returned (payload ``response``).
+
+    SMACC2: ``smacc2::default_events::EvServiceResponse``.
+    """
 
     default_transition_tag = SUCCESS
 
 
 class EvServiceFailure(SmaccEvent):
-    """A service call failed or timed out."""
+    """A service call failed or timed out. SMACC2: ``smacc2::default_events::EvServiceFailure``."""
 
     default_transition_tag = ABORT
 
 
 # --------------------------------------------------------------------------- topics, timers, keys
 class EvTopicMessage(SmaccEvent):
-    """A message arrived on a subscribed topic (payload ``msg``)."""
+    """A message arrived on a subscribed topic (payload ``msg``).
+
+    SMACC2: ``smacc2::default_events::EvTopicMessage``.
+    """
 
 
 class EvTopicInitialMessage(SmaccEvent):
-    """The first message arrived on a subscribed topic (payload ``msg``)."""
+    """The first message arrived on a subscribed topic (payload ``msg``).
+
+    SMACC2: ``smacc2::default_events::EvTopicInitialMessage``.
+    """
 
 
 class EvTimer(SmaccEvent):
-    """A timer (ClRos2Timer countdown or tick) fired."""
+    """A timer (ClRos2Timer countdown or tick) fired. SMACC2: ``cl_ros2_timer::EvTimer``."""
 
 
 class EvKeyPress(SmaccEvent):
-    """Base of ``EvKeyPressA`` .. ``EvKeyPressZ``; a transition on it matches any key."""
+    """Base of ``EvKeyPressA`` .. ``EvKeyPressZ``; a transition on it matches any key.
+
+    SMACC2: ``cl_keyboard::EvKeyPressA..Z``.
+    """
 
     key: ClassVar[str] = ""
 
@@ -199,60 +229,78 @@ class _StateEvent(SmaccEvent):
 
 
 class EvStateRequestFinish(_StateEvent):
-    """A state asks to be left (``request_finish``)."""
+    """A state asks to be left (``request_finish``).
+
+    SMACC2: ``smacc2::default_events::EvStateRequestFinish``.
+    """
 
     default_transition_tag = SUCCESS
 
 
 class EvSequenceFinished(_StateEvent):
-    """A sequence inside a state finished (``throw_sequence_finished_event``)."""
+    """A sequence inside a state finished (``throw_sequence_finished_event``).
+
+    SMACC2: ``smacc2::default_events::EvSequenceFinished``.
+    """
 
     default_transition_tag = SUCCESS
 
 
 class EvLoopContinue(_StateEvent):
-    """The loop condition held: run another iteration."""
+    """The loop condition held: run another iteration. SMACC2: ``smacc2::default_events::EvLoopContinue``."""
 
     default_transition_tag = CONTINUELOOP
 
 
 class EvLoopEnd(_StateEvent):
-    """The loop condition failed: leave the loop."""
+    """The loop condition failed: leave the loop. SMACC2: ``smacc2::default_events::EvLoopEnd``."""
 
     default_transition_tag = ENDLOOP
 
 
 # --------------------------------------------------------------------------- reactors and generators
 class EvAllGo(SmaccEvent):
-    """SrAllEventsGo saw every input event; parameters are (reactor, object tag)."""
+    """SrAllEventsGo saw every input event; parameters are (reactor, object tag).
+
+    SMACC2: ``smacc2::state_reactors::EvAllGo``.
+    """
 
     param_names = ("source", "object_tag")
     default_transition_tag = SUCCESS
 
 
 class EvConditionalTrue(SmaccEvent):
-    """SrConditional's predicate accepted an input event."""
+    """SrConditional's predicate accepted an input event.
+
+    SMACC2: ``smacc2::state_reactors::EvConditionalTrue``.
+    """
 
     param_names = ("source", "object_tag")
     default_transition_tag = SUCCESS
 
 
 class EvCountdownEnd(SmaccEvent):
-    """SrEventCountdown counted its input events down to zero."""
+    """SrEventCountdown counted its input events down to zero.
+
+    SMACC2: ``smacc2::state_reactors::EvCountdownEnd``.
+    """
 
     param_names = ("source", "object_tag")
     default_transition_tag = SUCCESS
 
 
 class EvTrue(SmaccEvent):
-    """EgConditionalGenerator's predicate is true; parameters are (generator, state)."""
+    """EgConditionalGenerator's predicate is true; parameters are (generator, state).
+
+    SMACC2: ``smacc2::event_generators::EvTrue``.
+    """
 
     param_names = ("source", "state")
     default_transition_tag = SUCCESS
 
 
 class EvFalse(SmaccEvent):
-    """EgConditionalGenerator's predicate is false."""
+    """EgConditionalGenerator's predicate is false. SMACC2: ``smacc2::event_generators::EvFalse``."""
 
     param_names = ("source", "state")
     default_transition_tag = ABORT
@@ -260,19 +308,25 @@ class EvFalse(SmaccEvent):
 
 # --------------------------------------------------------------------------- waypoints
 class EvWaypoint(SmaccEvent):
-    """Base of ``EvWaypoint0`` .. ``EvWaypoint44``: waypoint ``index`` was reached."""
+    """Base of ``EvWaypoint0`` .. ``EvWaypoint44``: waypoint ``index`` was reached.
+
+    SMACC2: ``cl_nav2z::EvWaypoint0..44``.
+    """
 
     index: ClassVar[int] = -1
 
 
 class EvWaypointFinal(SmaccEvent):
-    """The last waypoint of the list was reached."""
+    """The last waypoint of the list was reached. SMACC2: ``cl_nav2z::EvWaypointFinal``."""
 
     default_transition_tag = SUCCESS
 
 
 class EvGoalWaypointReached(SmaccEvent):
-    """The named goal waypoint was reached (CbNavigateNextWaypointUntilReached)."""
+    """The named goal waypoint was reached (CbNavigateNextWaypointUntilReached).
+
+    SMACC2: ``cl_nav2z::EvGoalWaypointReached``.
+    """
 
     default_transition_tag = SUCCESS
 

@@ -7,19 +7,47 @@ behaviors' ``on_entry`` (async ones start their thread), reactors' and generator
 Exit: behaviors' ``on_exit`` (async ones first get the shutdown request and a bounded join), reactors'
 and generators' ``on_exit`` → state ``on_exit`` → orthogonal slots closed → pop. Exceptions raised by
 user hooks are logged with their traceback and skipped, so one faulty hook never kills the machine.
+
+These functions work on the machine's bookkeeping (its state stack, orthogonals, active reactors), which
+``LifecycleHost`` names; ``SmaccStateMachineBase`` satisfies it. They are split from the machine so the
+entry and exit order can be read in one place (SMACC2 spreads it over ``SmaccState``'s constructor and
+``ISmaccStateMachine::notifyOnStateEntryStart``/``notifyOnStateExitting``).
 """
 
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
+from typing import Any, Protocol
 
+from smacc_py.core.model import MachineModel
+from smacc_py.core.orthogonal import Orthogonal
+from smacc_py.core.params import SmaccEngineParams
+from smacc_py.core.ports import MachinePort
+from smacc_py.core.reactors import StateReactor
 from smacc_py.core.state import SmaccState
 
-if TYPE_CHECKING:
-    from smacc_py.core.state_machine import SmaccStateMachineBase
-
 _log = logging.getLogger("smacc_py")
+
+
+class LifecycleHost(MachinePort, Protocol):
+    """The machine as entering and leaving a state sees it: the parts built, the stacks kept."""
+
+    model: MachineModel
+    params: SmaccEngineParams
+    _stack: list[SmaccState]
+    _seq: int
+    _active_seqs: set[int]
+    _reactors: tuple[StateReactor, ...]
+    _orthogonals: dict[type[Orthogonal], Orthogonal]
+    _orthogonal_list: list[Orthogonal]
+
+    @property
+    def _observers(self) -> Sequence[object]:
+        """The registered observers (only tested for emptiness here)."""
+
+    def _notify(self, method: str, arg: Any) -> None:
+        """Call ``method(sm, arg)`` on every observer."""
 
 
 def _run_hooks(objects: list[Any], hook: str) -> None:
@@ -31,7 +59,7 @@ def _run_hooks(objects: list[Any], hook: str) -> None:
             _log.exception("%s.%s raised; skipped", type(obj).__name__, hook.replace("_engine_", "on_"))
 
 
-def _build_parts(sm: SmaccStateMachineBase, state: SmaccState) -> None:
+def _build_parts(sm: LifecycleHost, state: SmaccState) -> None:
     cls = type(state)
     name = cls.__name__
     for bcfg in cls.behavior_configs:
@@ -64,7 +92,7 @@ def _build_parts(sm: SmaccStateMachineBase, state: SmaccState) -> None:
         state.generators.append(generator)
 
 
-def enter_state(sm: SmaccStateMachineBase, cls: type[SmaccState]) -> SmaccState:
+def enter_state(sm: LifecycleHost, cls: type[SmaccState]) -> SmaccState:
     """Construct and enter ``cls`` as the new innermost active state."""
     stack = sm._stack
     sm._seq += 1
@@ -96,7 +124,7 @@ def enter_state(sm: SmaccStateMachineBase, cls: type[SmaccState]) -> SmaccState:
     return state
 
 
-def exit_state(sm: SmaccStateMachineBase, state: SmaccState) -> None:
+def exit_state(sm: LifecycleHost, state: SmaccState) -> None:
     """Exit the innermost active state ``state`` and pop it (its seq is already inactive)."""
     cls = type(state)
     if state.behaviors or state.reactors or state.generators:

@@ -60,7 +60,11 @@ class StateInfo:
 
 
 class MachineModel:
-    """The compiled, validated form of one machine class."""
+    """The compiled, validated form of one machine class.
+
+    SMACC2 builds the same state tree from the C++ types in ``smacc2::introspection::SmaccStateMachineInfo``;
+    its transitions are dispatched by Boost.Statechart, for which ``TransitionPlan`` stands in here.
+    """
 
     def __init__(self, sm_type: type) -> None:
         self.sm_type = sm_type

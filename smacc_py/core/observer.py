@@ -1,4 +1,5 @@
-"""Observer interface and transition records: what the ROS runtime needs for introspection.
+"""Observers, transition records and the machine's observer registry: what the ROS runtime needs for
+introspection.
 
 The engine calls observers synchronously: ``on_event_posted`` on the posting thread (an async
 behavior's thread, say), everything else on the machine thread (the ROS runtime's executor), in
@@ -7,24 +8,29 @@ order. Observers must be quick (queue the work and publish elsewhere) and must n
 ``TransitionRecord`` carries the fields of ``smacc2_msgs/SmaccTransitionLogEntry``; treat it as
 read-only (it is not frozen only because a frozen dataclass is slow to build, and one is built per
 transition on the hot path).
+
+This is the engine's outgoing interface, so it sits below ``state_machine``, which calls it. The ``sm``
+argument of every callback is the reporting ``SmaccStateMachineBase``; it is typed ``Any`` here because
+this module cannot name that class, and ``Any`` (unlike ``MachinePort``) lets subclasses annotate the
+argument as ``SmaccStateMachineBase`` without breaking the override rules.
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 from smacc_py.core.events import SmaccEvent
+from smacc_py.core.state import SmaccState
 from smacc_py.core.tags import TransitionTag
 
-if TYPE_CHECKING:
-    from smacc_py.core.state import SmaccState
-    from smacc_py.core.state_machine import SmaccStateMachineBase
+_log = logging.getLogger("smacc_py")
 
 
 @dataclass(slots=True)
 class TransitionRecord:
-    """One taken transition (``SmaccTransitionLogEntry``); ``stamp_s`` is the machine clock (s).
+    """One taken transition (``smacc2_msgs/SmaccTransitionLogEntry``); ``stamp_s`` is the machine clock (s).
 
     ``target`` is the declared destination (the superstate for ``History``), as in ``SmaccTransition``;
     ``leaf`` is the innermost state the transition ended in (after inner initial states or history).
@@ -45,22 +51,52 @@ class TransitionRecord:
 
 
 class SmaccObserver:
-    """Base with no-op callbacks; override the ones you need and ``sm.add_observer(obs)``."""
+    """Base with no-op callbacks; override the ones you need and ``sm.add_observer(obs)``.
 
-    def on_event_posted(self, sm: SmaccStateMachineBase, event: SmaccEvent) -> None:
+    SMACC2 has no equivalent class: its ``ISmaccStateMachine`` publishes these moments itself
+    (``smacc2_msgs/SmaccStatus``, ``SmaccTransitionLogEntry``); here the ROS runtime is one observer.
+    """
+
+    def on_event_posted(self, sm: Any, event: SmaccEvent) -> None:
         """An event was queued (after the state reactors saw it)."""
 
-    def on_event_dropped(self, sm: SmaccStateMachineBase, event: SmaccEvent) -> None:
+    def on_event_dropped(self, sm: Any, event: SmaccEvent) -> None:
         """A CURRENT_STATE event was dropped because the state that posted it has exited."""
 
-    def on_event_unhandled(self, sm: SmaccStateMachineBase, event: SmaccEvent) -> None:
+    def on_event_unhandled(self, sm: Any, event: SmaccEvent) -> None:
         """No active state had a matching transition whose guard accepted the event."""
 
-    def on_transition(self, sm: SmaccStateMachineBase, record: TransitionRecord) -> None:
+    def on_transition(self, sm: Any, record: TransitionRecord) -> None:
         """A transition was taken; called after ``on_exit_<TAG>`` and before any state exits."""
 
-    def on_state_exited(self, sm: SmaccStateMachineBase, state: SmaccState) -> None:
+    def on_state_exited(self, sm: Any, state: SmaccState) -> None:
         """A state finished exiting (after its ``on_exit``)."""
 
-    def on_state_entered(self, sm: SmaccStateMachineBase, state: SmaccState) -> None:
+    def on_state_entered(self, sm: Any, state: SmaccState) -> None:
         """A state finished entering (after its behaviors', reactors' and generators' ``on_entry``)."""
+
+
+class ObserverRegistry:
+    """The machine's observers and the call into them; ``SmaccStateMachineBase`` inherits it.
+
+    The tuple is replaced, never mutated, so a dispatch that is iterating it is not disturbed by an
+    observer added or removed meanwhile (from another thread or from a callback).
+    """
+
+    # Set by SmaccStateMachineBase.__init__.
+    _observers: tuple[SmaccObserver, ...]
+
+    def add_observer(self, observer: SmaccObserver) -> None:
+        """Register an observer (see ``SmaccObserver`` for the threading contract)."""
+        self._observers = (*self._observers, observer)
+
+    def remove_observer(self, observer: SmaccObserver) -> None:
+        """Unregister an observer."""
+        self._observers = tuple(o for o in self._observers if o is not observer)
+
+    def _notify(self, method: str, arg: Any) -> None:
+        for observer in self._observers:
+            try:
+                getattr(observer, method)(self, arg)
+            except Exception:
+                _log.exception("observer %s.%s raised; ignored", type(observer).__name__, method)

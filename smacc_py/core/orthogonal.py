@@ -2,30 +2,29 @@
 
 SMACC2 orthogonals are concurrent *behavior slots*, not Harel parallel regions (SMACC2 #531): each keeps
 a stack with one list of behaviors per active state level, so a superstate's behaviors stay alive while
-its inner states run. ``on_initialize`` creates the clients (``create_client``).
+its inner states run. ``on_initialize`` creates the clients (``create_client``). An orthogonal implements
+the ``OrthogonalPort`` its clients and behaviors use, and reaches its machine through ``MachinePort``.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 from smacc_py.core.client import ISmaccClient
-
-if TYPE_CHECKING:
-    from smacc_py.core.client_behavior import ISmaccClientBehavior
-    from smacc_py.core.state_machine import SmaccStateMachineBase
+from smacc_py.core.client_behavior import ISmaccClientBehavior
+from smacc_py.core.ports import MachinePort
 
 C = TypeVar("C")
 
 
 class Orthogonal:
-    """Base of every orthogonal; override ``on_initialize`` to create clients."""
+    """Base of every orthogonal (``smacc2::Orthogonal<T>``); override ``on_initialize`` to create clients."""
 
-    sm: SmaccStateMachineBase
+    sm: MachinePort
     clients: list[ISmaccClient]
     behavior_stack: list[list[ISmaccClientBehavior]]
 
-    def _attach(self, sm: SmaccStateMachineBase) -> None:
+    def _attach(self, sm: MachinePort) -> None:
         self.sm = sm
         self.clients = []
         self.behavior_stack = []

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class SmaccEngineParams:
-    """Knobs of the core engine.
+    """Knobs of the core engine (SMACC2 reads the same knobs as node parameters; it has no such class).
 
     Attributes:
         async_join_timeout_s: how long (s) a state exit waits for an async behavior's ``on_entry`` to

@@ -4,30 +4,28 @@ Declared in ``static_configure`` with ``static_create_state_reactor(SrX, OutputE
 *args)``. Every posted event is shown to the reactors of all active states *before* it is queued
 (SMACC2 semantics), so a reactor's output is queued just *ahead* of the event that triggered it. Input
 matching is by subclass, so a template (``EvCbSuccess``) listens to all of its parameterisations.
+Reactors sit below the state that declares them and reach it through ``StatePort``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from smacc_py.core.events import SmaccEvent
-
-if TYPE_CHECKING:
-    from smacc_py.core.state import SmaccState
-    from smacc_py.core.state_machine import SmaccStateMachineBase
+from smacc_py.core.ports import MachinePort, StatePort
 
 
 class StateReactor:
-    """Base of every reactor: override ``on_event_notified`` and ``triggers``."""
+    """Base of every reactor (``smacc2::StateReactor``): override ``on_event_notified`` and ``triggers``."""
 
     output_event: type[SmaccEvent]
     input_events: tuple[type[SmaccEvent], ...]
-    state: SmaccState
-    sm: SmaccStateMachineBase
+    state: StatePort
+    sm: MachinePort
     _seq: int
 
-    def _attach(self, state: SmaccState, output_event: type[SmaccEvent],
+    def _attach(self, state: StatePort, output_event: type[SmaccEvent],
                 input_events: tuple[type[SmaccEvent], ...]) -> None:
         self.state = state
         self.sm = state.sm
@@ -59,7 +57,8 @@ class StateReactor:
 
 
 class SrAllEventsGo(StateReactor):
-    """Posts its output (``EvAllGo``) once every input event type has been seen; then starts over."""
+    """Posts its output (``EvAllGo``) once every input event type has been seen; then starts over
+    (``smacc2::state_reactors::SrAllEventsGo``)."""
 
     def __init__(self) -> None:
         self._seen: set[type[SmaccEvent]] = set()
@@ -81,7 +80,8 @@ class SrAllEventsGo(StateReactor):
 
 
 class SrConditional(StateReactor):
-    """Posts its output (``EvConditionalTrue``) whenever ``predicate(event)`` holds for an input event."""
+    """Posts its output (``EvConditionalTrue``) whenever ``predicate(event)`` holds for an input event
+    (``smacc2::state_reactors::SrConditional``)."""
 
     def __init__(self, predicate: Callable[[Any], bool]) -> None:
         if not callable(predicate):
@@ -98,7 +98,8 @@ class SrConditional(StateReactor):
 
 
 class SrEventCountdown(StateReactor):
-    """Posts its output (``EvCountdownEnd``) once, when ``count`` input events have been seen."""
+    """Posts its output (``EvCountdownEnd``) once, when ``count`` input events have been seen
+    (``smacc2::state_reactors::SrEventCountdown``)."""
 
     def __init__(self, count: int) -> None:
         if count < 1:

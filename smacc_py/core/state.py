@@ -13,6 +13,10 @@ What a state class declares (all checked when the class is created, errors name 
 
 Instance hooks, in the order the engine calls them: ``runtime_configure``, ``on_entry``, then on the way
 out ``on_exit_<TAG>`` (only on the state whose reaction fired, only for that exact tag) and ``on_exit``.
+
+The declarations name orthogonal, behavior, reactor and generator classes, so those modules sit below
+this one; the machine sits above (it is compiled from states) and a state reaches it through
+``MachinePort``.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from __future__ import annotations
 import inspect
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from smacc_py.core.client_behavior import ISmaccClientBehavior
 from smacc_py.core.errors import InvalidDefinitionError, SmaccLookupError
@@ -34,12 +38,10 @@ from smacc_py.core.events import (
 )
 from smacc_py.core.global_data import MISSING
 from smacc_py.core.orthogonal import Orthogonal
+from smacc_py.core.ports import MachinePort
 from smacc_py.core.reactors import StateReactor
 from smacc_py.core.tags import TransitionTag
 from smacc_py.core.transition import Transition
-
-if TYPE_CHECKING:
-    from smacc_py.core.state_machine import SmaccStateMachineBase
 
 C = TypeVar("C")
 S = TypeVar("S", bound="SmaccState")
@@ -106,7 +108,8 @@ def declared_children(parent: type) -> list[type[SmaccState]]:
 
 
 class SmaccState:
-    """Base class of every state and superstate."""
+    """Base class of every state and superstate (``smacc2::SmaccState<St, Context, InnerInitial>``);
+    implements the ``StatePort`` its behaviors, reactors and generators use."""
 
     reactions: ClassVar[Sequence[Transition]] = ()
     inner_initial_state: ClassVar[type[SmaccState] | str | None] = None
@@ -229,7 +232,7 @@ class SmaccState:
         return hooks[tag]
 
     # ------------------------------------------------------------------ instance
-    def __init__(self, sm: SmaccStateMachineBase, parent: SmaccState | None, seq: int) -> None:
+    def __init__(self, sm: MachinePort, parent: SmaccState | None, seq: int) -> None:
         self.sm = sm
         self.parent = parent
         self.seq = seq

@@ -11,10 +11,11 @@ states, or the remembered leaf for ``History``). Self-transitions exit and re-en
 Events posted by behaviors, reactors and generators carry the sequence number of the state instance
 that owns them (CURRENT_STATE lifetime) and are dropped once that instance has begun to exit.
 
-Two mixins this class inherits hold what is not dispatch: ``MachineAssembly`` (``assembly.py``) builds
-the orthogonals, clients and components (and their substitutes) once before the first state, and
+Three mixins this class inherits hold what is not dispatch: ``MachineAssembly`` (``assembly.py``) builds
+the orthogonals, clients and components (and their substitutes) once before the first state,
 ``StateMachineQueries`` (``state_machine_queries.py``) answers read-only lookups (active states,
-orthogonals, clients, components, blackboard reads, ``describe``).
+orthogonals, clients, components, blackboard reads, ``describe``), and ``ObserverRegistry``
+(``observer.py``) keeps the observers and calls them. Entering and leaving one state is ``lifecycle.py``.
 
 Two ways to run it:
 
@@ -45,19 +46,20 @@ from smacc_py.core.events import SmaccEvent
 from smacc_py.core.global_data import GlobalData
 from smacc_py.core.lifecycle import enter_state, exit_state
 from smacc_py.core.model import MachineModel, TransitionPlan, compile_model
-from smacc_py.core.observer import SmaccObserver, TransitionRecord
+from smacc_py.core.observer import ObserverRegistry, SmaccObserver, TransitionRecord
 from smacc_py.core.orthogonal import Orthogonal
 from smacc_py.core.params import SmaccEngineParams
 from smacc_py.core.reactors import StateReactor
 from smacc_py.core.state import SmaccState
 from smacc_py.core.state_machine_queries import StateMachineQueries
-from smacc_py.core.updatable import ISmaccUpdatable
+from smacc_py.core.updatable import poll_updatables
 
 _log = logging.getLogger("smacc_py")
 
 
-class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
-    """Base of every machine: set ``initial_state`` and create orthogonals in ``on_initialize``."""
+class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegistry):
+    """Base of every machine (``smacc2::SmaccStateMachineBase<Derived, InitialState>``): set
+    ``initial_state`` and create orthogonals in ``on_initialize``."""
 
     _is_smacc_state_machine: ClassVar[bool] = True
     initial_state: ClassVar[type[SmaccState] | str]
@@ -320,31 +322,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries):
                 objects.extend(b for _, b in state.behaviors)
                 objects.extend(state.reactors)
                 objects.extend(state.generators)
-        now_s = self._now()
-        for obj in objects:
-            if isinstance(obj, ISmaccUpdatable) and obj._update_due(now_s):
-                seq = getattr(obj, "_seq", None)
-                if seq is not None and seq not in self._active_seqs:
-                    continue
-                try:
-                    obj.update()
-                except Exception:
-                    _log.exception("%s.update raised; skipped", type(obj).__name__)
-
-    def add_observer(self, observer: SmaccObserver) -> None:
-        """Register an observer (see ``SmaccObserver`` for the threading contract)."""
-        self._observers = (*self._observers, observer)
-
-    def remove_observer(self, observer: SmaccObserver) -> None:
-        """Unregister an observer."""
-        self._observers = tuple(o for o in self._observers if o is not observer)
-
-    def _notify(self, method: str, arg: Any) -> None:
-        for observer in self._observers:
-            try:
-                getattr(observer, method)(self, arg)
-            except Exception:
-                _log.exception("observer %s.%s raised; ignored", type(observer).__name__, method)
+        poll_updatables(objects, self._now(), self._active_seqs)
 
     def _dropped(self, event: SmaccEvent) -> None:
         _log.debug("%s: dropped %r: the state that posted it has exited", self.name, event)

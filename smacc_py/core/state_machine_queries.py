@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from typing import Any, TypeVar
 
-from smacc_py.core.client import ISmaccClient, missing
+from smacc_py.core.client import ISmaccClient
+from smacc_py.core.errors import missing
 from smacc_py.core.global_data import MISSING, GlobalData
 from smacc_py.core.introspection import StateMachineDescription, describe_model
 from smacc_py.core.model import MachineModel
@@ -26,7 +27,8 @@ C = TypeVar("C")
 
 
 class StateMachineQueries:
-    """Read-only state, orthogonal, client, component and blackboard lookups of a state machine."""
+    """Read-only state, orthogonal, client, component and blackboard lookups of a state machine
+    (SMACC2: the lookups of ``smacc2::ISmaccStateMachine``: ``requiresComponent``, ``getGlobalSMData``)."""
 
     # Set by SmaccStateMachineBase.__init__ (and kept up to date by its dispatch).
     name: str

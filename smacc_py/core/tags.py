@@ -11,7 +11,10 @@ from __future__ import annotations
 
 
 class TransitionTag:
-    """Base of every tag. Do not use directly in a transition; use one of the subclasses."""
+    """Base of every tag. Do not use directly in a transition; use one of the subclasses.
+
+    SMACC2's tags are empty structs in ``smacc2::default_transition_tags`` with no common base.
+    """
 
     def __init__(self) -> None:
         raise TypeError(f"{type(self).__name__} is a transition tag class; use the class, not an instance")
@@ -31,27 +34,39 @@ class TransitionTag:
 
 
 class DEFAULT(TransitionTag):
-    """No particular meaning; used when an event has no natural outcome."""
+    """No particular meaning; used when an event has no natural outcome.
+
+    SMACC2: ``smacc2::default_transition_tags::DEFAULT``.
+    """
 
 
 class SUCCESS(TransitionTag):
-    """The state reached its goal."""
+    """The state reached its goal. SMACC2: ``smacc2::default_transition_tags::SUCCESS``."""
 
 
 class ABORT(TransitionTag):
-    """The state gave up (an action was aborted, a behavior failed, retries ran out)."""
+    """The state gave up (an action was aborted, a behavior failed, retries ran out).
+
+    SMACC2: ``smacc2::default_transition_tags::ABORT``.
+    """
 
 
 class CANCEL(TransitionTag):
-    """The work of the state was cancelled."""
+    """The work of the state was cancelled. SMACC2: ``smacc2::default_transition_tags::CANCEL``."""
 
 
 class CONTINUELOOP(TransitionTag):
-    """Another iteration of a loop (``EvLoopContinue``)."""
+    """Another iteration of a loop (``EvLoopContinue``).
+
+    SMACC2: ``smacc2::default_transition_tags::CONTINUELOOP``.
+    """
 
 
 class ENDLOOP(TransitionTag):
-    """The loop condition became false (``EvLoopEnd``)."""
+    """The loop condition became false (``EvLoopEnd``).
+
+    SMACC2: ``smacc2::default_transition_tags::ENDLOOP``.
+    """
 
 
 BUILTIN_TAGS: tuple[type[TransitionTag], ...] = (DEFAULT, SUCCESS, ABORT, CANCEL, CONTINUELOOP, ENDLOOP)

@@ -20,7 +20,8 @@ Guard = Callable[[Any], bool]
 
 
 class History:
-    """Deep-history pseudostate of a superstate: ``Transition(EvResume, History(MsRunMode))``.
+    """Deep-history pseudostate of a superstate: ``Transition(EvResume, History(MsRunMode))``
+    (SMACC2: ``sc::deep_history<MsRunMode::LastDeepState>``).
 
     Entering it resumes the leaf that was active when the superstate was last left, or enters the
     superstate normally (its inner initial state) when it has never been active.
@@ -48,6 +49,8 @@ Target = type | str | History
 
 class Transition:
     """``Transition(EvX, StY, SUCCESS, guard=lambda ev: ev.value > 3)``: on EvX go to StY with tag SUCCESS.
+
+    SMACC2: ``smacc2::Transition<EvX, StY, SUCCESS>``.
 
     Args:
         event: the event class (a template matches all of its parameterisations).

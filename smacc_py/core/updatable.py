@@ -8,15 +8,19 @@ the machine's injected clock, so sim time works. ``None`` means "on every poll".
 
 from __future__ import annotations
 
+import logging
 import math
+from collections.abc import Container, Iterable
 
 #: Slack (s) when comparing elapsed time with a period: 0.1 s polled at 20 Hz on a nanosecond clock is
 #: 0.09999999999990905 s between polls now and then, and must still count as a full period.
 PERIOD_SLACK_S = 1e-6
 
+_log = logging.getLogger("smacc_py")
+
 
 class ISmaccUpdatable:
-    """Mix-in for objects with periodic work; override ``update()``."""
+    """Mix-in for objects with periodic work; override ``update()``. SMACC2: ``smacc2::ISmaccUpdatable``."""
 
     update_period_s: float | None = None
     _last_update_s: float = -math.inf
@@ -36,3 +40,20 @@ class ISmaccUpdatable:
             return False
         self._last_update_s = now_s
         return True
+
+
+def poll_updatables(objects: Iterable[object], now_s: float, active_seqs: Container[int]) -> None:
+    """Call ``update()`` on each ISmaccUpdatable among ``objects`` whose period has elapsed at ``now_s``.
+
+    A state-lifetime part (one with a ``_seq``) whose state is no longer in ``active_seqs`` is skipped: it
+    may have exited since ``objects`` was collected. An ``update()`` that raises is logged and skipped.
+    """
+    for obj in objects:
+        if isinstance(obj, ISmaccUpdatable) and obj._update_due(now_s):
+            seq = getattr(obj, "_seq", None)
+            if seq is not None and seq not in active_seqs:
+                continue
+            try:
+                obj.update()
+            except Exception:
+                _log.exception("%s.update raised; skipped", type(obj).__name__)
