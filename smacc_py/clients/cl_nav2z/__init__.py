@@ -2,8 +2,10 @@
 
 ``ClNav2Z`` (NavigateToPose plus the behavior-server actions), components ``CpPose``,
 ``CpOdomTracker``, ``CpPlannerSwitcher``, ``CpGoalCheckerSwitcher``, ``CpAmcl``,
-``CpWaypointNavigator``, and the client behaviors below. Modules: ``client``, ``cp_*`` (components),
-``cb_*`` (behaviors), ``geometry``, ``odom_path`` and ``waypoints_io`` (pure helpers).
+``CpWaypointNavigator`` (with its ``WaypointEventDispatcher``), ``CpWaypointsVisualizer``,
+``CpSlamToolbox``, ``CpCostmapSwitch``, and the client behaviors below. Modules: ``client``, ``cp_*``
+(components), ``cb_*`` (behaviors), ``service_caller`` (base of the components that call services),
+``waypoints_event_dispatcher``, ``geometry``, ``odom_path`` and ``waypoints_io`` (pure helpers).
 """
 
 from smacc_py.clients.cl_nav2z.cb_action_base import CbNav2ZActionBase
@@ -12,6 +14,7 @@ from smacc_py.clients.cl_nav2z.cb_motion import (
     CbNavigateBackwards,
     CbNavigateForward,
     CbRotate,
+    CbRotateLookAt,
     CbSpin,
     CbUndoPathBackwards,
 )
@@ -22,14 +25,25 @@ from smacc_py.clients.cl_nav2z.cb_navigation import (
     CbStopNavigation,
 )
 from smacc_py.clients.cl_nav2z.cb_pure_spinning import CbPureSpinning
-from smacc_py.clients.cl_nav2z.cb_waits import CbSetInitialPose, CbWaitNav2Nodes, CbWaitPose
+from smacc_py.clients.cl_nav2z.cb_retry import CbRetry
+from smacc_py.clients.cl_nav2z.cb_slam import CbPauseSlam, CbResumeSlam
+from smacc_py.clients.cl_nav2z.cb_waits import CbSetInitialPose, CbWaitNav2Nodes, CbWaitPose, CbWaitTransform
+from smacc_py.clients.cl_nav2z.cb_waypoints import (
+    CbNavigateNamedWaypoint,
+    CbNavigateNextWaypointUntilReached,
+    CbSeekWaypoint,
+)
 from smacc_py.clients.cl_nav2z.client import ClNav2Z
 from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
+from smacc_py.clients.cl_nav2z.cp_costmap_switch import CpCostmapSwitch, StandardLayers
 from smacc_py.clients.cl_nav2z.cp_odom_tracker import CpOdomTracker
 from smacc_py.clients.cl_nav2z.cp_pose import CpPose
+from smacc_py.clients.cl_nav2z.cp_slam_toolbox import CpSlamToolbox, SlamToolboxState
 from smacc_py.clients.cl_nav2z.cp_switchers import CpGoalCheckerSwitcher, CpPlannerSwitcher
 from smacc_py.clients.cl_nav2z.cp_waypoint_navigator import CpWaypointNavigator
+from smacc_py.clients.cl_nav2z.cp_waypoints_visualizer import CpWaypointsVisualizer
 from smacc_py.clients.cl_nav2z.odom_path import OdomTrackerParams, WorkingMode
+from smacc_py.clients.cl_nav2z.waypoints_event_dispatcher import WaypointEventDispatcher
 from smacc_py.clients.cl_nav2z.waypoints_io import Waypoint
 
 __all__ = [
@@ -39,23 +53,37 @@ __all__ = [
     "CbNavigateBackwards",
     "CbNavigateForward",
     "CbNavigateGlobalPosition",
+    "CbNavigateNamedWaypoint",
     "CbNavigateNextWaypoint",
+    "CbNavigateNextWaypointUntilReached",
+    "CbPauseSlam",
     "CbPureSpinning",
+    "CbResumeSlam",
+    "CbRetry",
     "CbRotate",
+    "CbRotateLookAt",
+    "CbSeekWaypoint",
     "CbSetInitialPose",
     "CbSpin",
     "CbStopNavigation",
     "CbUndoPathBackwards",
     "CbWaitNav2Nodes",
     "CbWaitPose",
+    "CbWaitTransform",
     "ClNav2Z",
     "CpAmcl",
+    "CpCostmapSwitch",
     "CpGoalCheckerSwitcher",
     "CpOdomTracker",
     "CpPlannerSwitcher",
     "CpPose",
+    "CpSlamToolbox",
     "CpWaypointNavigator",
+    "CpWaypointsVisualizer",
     "OdomTrackerParams",
+    "SlamToolboxState",
+    "StandardLayers",
     "Waypoint",
+    "WaypointEventDispatcher",
     "WorkingMode",
 ]

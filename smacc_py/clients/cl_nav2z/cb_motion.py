@@ -3,7 +3,8 @@
 * ``CbNavigateForward(distance)`` → ``drive_on_heading`` (straight, collision-checked).
 * ``CbNavigateBackwards(distance)`` → ``backup``.
 * ``CbSpin(yaw_rad)`` → ``spin``; ``CbRotate(deg)`` the same in degrees; ``CbAbsoluteRotate(deg)`` spins by
-  the difference between the wanted map yaw and CpPose's yaw.
+  the difference between the wanted map yaw and CpPose's yaw; ``CbRotateLookAt(x, y)`` does the same
+  with the heading that faces the point (x, y).
 * ``CbUndoPathBackwards`` drives back along CpOdomTracker's working path: a straight path is undone with
   one ``backup`` (or ``drive_on_heading`` if it was driven backwards) of its length; any other path is
   handed reversed to the controller server's ``follow_path`` (the controller decides whether the robot
@@ -106,13 +107,42 @@ class CbAbsoluteRotate(CbNav2ZActionBase):
     def __init__(self, degrees: float) -> None:
         self.target_yaw = math.radians(degrees)
 
+    def target_heading(self, pose: Pose2D) -> float | None:
+        """The heading (rad, CpPose's reference frame) to turn to from ``pose``; None after posting a
+        failure. Subclasses that aim at something override it."""
+        return self.target_yaw
+
     def make_goal(self) -> tuple[str, Any] | None:
         cp_pose = self.requires_component(CpPose)
         pose = cp_pose.refresh()
         if pose is None:
             self.post_failure_event(reason=f"no robot pose: {cp_pose.last_error}")
             return None
-        return SPIN, spin_goal(normalize_angle(self.target_yaw - pose[2]))
+        heading = self.target_heading(pose)
+        if heading is None:
+            return None
+        return SPIN, spin_goal(normalize_angle(heading - pose[2]))
+
+
+class CbRotateLookAt(CbAbsoluteRotate):
+    """Turn in place to face the point (``x``, ``y``) m in CpPose's reference frame (SMACC2 takes a
+    PoseStamped and uses only its position). Fails when the robot stands within ``min_distance`` m of
+    the point, where no heading faces it."""
+
+    def __init__(self, x: float, y: float, *, min_distance: float = 0.01) -> None:
+        for field, value in (("x", x), ("y", y), ("min_distance", min_distance)):
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"CbRotateLookAt: {field} must be a finite number, got {value!r}")
+        super().__init__(0.0)
+        self.look_at, self.min_distance = (float(x), float(y)), float(min_distance)
+
+    def target_heading(self, pose: Pose2D) -> float | None:
+        dx, dy = self.look_at[0] - pose[0], self.look_at[1] - pose[1]
+        if math.hypot(dx, dy) < self.min_distance:
+            self.post_failure_event(reason=f"CbRotateLookAt: the robot at ({pose[0]:.3f}, {pose[1]:.3f}) is "
+                                    f"within {self.min_distance} m of the point {self.look_at}")
+            return None
+        return math.atan2(dy, dx)
 
 
 def undo_plan(path: list[Pose2D], heading_tolerance: float = 0.3) -> tuple[str, float] | None:

@@ -1,4 +1,5 @@
-"""Waiting behaviors: CbWaitNav2Nodes (bond heartbeats), CbWaitPose (TF), CbSetInitialPose (AMCL).
+"""Waiting behaviors: CbWaitNav2Nodes (bond heartbeats), CbWaitPose and CbWaitTransform (TF),
+CbSetInitialPose (AMCL).
 
 Each one polls on the machine clock (ISmaccUpdatable) for its timeout, so timeouts follow sim time,
 and posts exactly one EvCbSuccess or EvCbFailure (payload ``reason`` on failure).
@@ -10,11 +11,13 @@ import math
 import threading
 from collections.abc import Sequence
 
+from ros_tools.tf import Transform, TransformError
 from smacc_py.clients.cl_nav2z.client import ClNav2Z
 from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
 from smacc_py.clients.cl_nav2z.cp_pose import CpPose
 from smacc_py.clients.cl_nav2z.geometry import normalize_angle
 from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior
+from smacc_py.ros.components.checks import check_duration
 
 
 class _OneShot(SmaccClientBehavior, ISmaccUpdatable):
@@ -105,6 +108,41 @@ class CbWaitPose(_OneShot):
 
     def timeout_reason(self) -> str:
         return f"no robot pose within {self.timeout_s} s: {self._cp_pose.last_error}"
+
+
+class CbWaitTransform(_OneShot):
+    """Success once TF has a transform between ``target_frame`` and ``reference_frame``; failure after
+    ``timeout_s`` s of machine clock (the node clock: sim time under ``use_sim_time``).
+
+    As SMACC2's, it looks up tf2's ``lookupTransform(target_frame, reference_frame)``: the success payload
+    ``transform`` (a ros_tools.tf Transform) maps points in ``reference_frame`` into ``target_frame``.
+    SMACC2's blocks its thread in tf2's wait; this one tries on entry and on every runtime poll.
+    """
+
+    def __init__(self, target_frame: str, reference_frame: str, timeout_s: float = 10.0) -> None:
+        for field, frame in (("target_frame", target_frame), ("reference_frame", reference_frame)):
+            if not isinstance(frame, str) or not frame.strip("/ "):
+                raise ValueError(f"CbWaitTransform: {field} must name a frame, got {frame!r}")
+        self.target_frame, self.reference_frame = target_frame.strip("/ "), reference_frame.strip("/ ")
+        self.timeout_s = check_duration("CbWaitTransform", "timeout_s", timeout_s)
+        self.result: Transform | None = None
+        self.last_error = "not looked up yet"
+
+    def start(self) -> None:
+        self._client = self.requires_client(ClNav2Z)
+        self.poll()
+
+    def poll(self) -> None:
+        try:
+            self.result = self._client.lookup_transform(self.target_frame, self.reference_frame)
+        except TransformError as error:
+            self.last_error = str(error)
+            return
+        self.finish(True, transform=self.result)
+
+    def timeout_reason(self) -> str:
+        return (f"CbWaitTransform: no transform {self.target_frame} <- {self.reference_frame} within "
+                f"{self.timeout_s} s: {self.last_error}")
 
 
 class CbSetInitialPose(_OneShot):

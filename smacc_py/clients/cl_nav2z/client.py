@@ -11,7 +11,8 @@ Events are posted only for goals somebody still owns: a goal abandoned when its 
 ``GoalTicket.abandon``) ends silently, so it cannot trigger a transition in the next state.
 
 Every ROS endpoint of the client lives here (action clients, the cmd_vel publisher, the /bond
-subscription of CbWaitNav2Nodes, the cancel-every-goal service client of CbAbortNavigation), none in
+subscription of CbWaitNav2Nodes, the cancel-every-goal service client of CbAbortNavigation, the TF
+lookups of CbWaitTransform), none in
 its behaviors: a substitute ClNav2Z given to the machine
 (``SmaccStateMachineBase(substitutes=...)``) then replaces all of Nav2 for the shipped behaviors.
 """
@@ -29,6 +30,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.requests import call_service
+from ros_tools.tf import Transform
 from smacc_py.core import (
     EvActionAborted,
     EvActionCancelled,
@@ -169,6 +171,12 @@ class ClNav2Z(ISmaccClient):
             ctx.node.destroy_subscription(subscription)
 
         return unsubscribe
+
+    def lookup_transform(self, target_frame: str, source_frame: str) -> Transform:
+        """The latest transform mapping points in ``source_frame`` into ``target_frame`` (tf2's
+        ``lookupTransform(target, source)``) from the machine's shared TF listener, which starts
+        listening on the first call; TransformError with tf2's message while it is not available."""
+        return ros_context(self.sm).tf_listener().lookup(target_frame, source_frame)
 
     def cancel_navigation(self) -> None:
         """Cancel every NavigateToPose goal this client sent that is still running."""

@@ -2,8 +2,10 @@
 
 The list comes from a YAML file, from the given poses, or from the node parameter ``waypoints`` (x, y,
 yaw triples). ``CbNavigateNextWaypoint`` sends the waypoint under the cursor; when Nav2 reports success
-the navigator posts ``EvWaypoint<i>[ClNav2Z, Or]`` and, after the last one, ``EvWaypointFinal[ClNav2Z, Or]``,
-then advances the cursor.
+the navigator's WaypointEventDispatcher posts ``EvWaypoint<i>[ClNav2Z, Or]`` and, after the last one,
+``EvWaypointFinal[ClNav2Z, Or]``; then the cursor advances. ``find``/``seek_name`` look a name up as
+SMACC2's ``seekName`` does: forward from the cursor first, then backwards, so with repeated names
+the nearest one ahead wins.
 """
 
 from __future__ import annotations
@@ -13,13 +15,13 @@ from collections.abc import Sequence
 
 from rcl_interfaces.msg import ParameterDescriptor
 
+from smacc_py.clients.cl_nav2z.waypoints_event_dispatcher import WaypointEventDispatcher
 from smacc_py.clients.cl_nav2z.waypoints_io import (
     Waypoint,
     load_waypoints_file,
     waypoints_from_flat,
 )
-from smacc_py.core import EvWaypointFinal, ISmaccComponent
-from smacc_py.core.events import MAX_WAYPOINT_EVENTS, waypoint_event
+from smacc_py.core import ISmaccComponent
 from smacc_py.ros.context import ros_context
 
 
@@ -40,6 +42,7 @@ class CpWaypointNavigator(ISmaccComponent):
         self.current_index = 0
 
     def on_initialize(self) -> None:
+        self.dispatcher = WaypointEventDispatcher(self.owner)
         if self.file:
             self.waypoints = load_waypoints_file(self.file)
         elif self._given:
@@ -69,23 +72,33 @@ class CpWaypointNavigator(ISmaccComponent):
         with self._lock:
             self.current_index = min(self.current_index + count, len(self.waypoints))
 
-    def seek_name(self, name: str) -> None:
-        """Put the cursor on the waypoint called ``name`` (ValueError naming the known ones)."""
-        for i, waypoint in enumerate(self.waypoints):
-            if waypoint.name == name:
-                with self._lock:
-                    self.current_index = i
-                return
-        known = ", ".join(w.name for w in self.waypoints if w.name) or "none"
-        raise ValueError(f"CpWaypointNavigator: no waypoint named {name!r} (named: {known})")
+    def find(self, name: str) -> int | None:
+        """Index of the waypoint called ``name``: the first at or after the cursor, else the nearest
+        before it; None when no waypoint has that name."""
+        with self._lock:
+            start = min(self.current_index, len(self.waypoints))
+            order = [*range(start, len(self.waypoints)), *range(start - 1, -1, -1)]
+        return next((i for i in order if self.waypoints[i].name == name), None)
+
+    def named(self) -> str:
+        """The waypoint names, for error messages ("none" when no waypoint has a name)."""
+        return ", ".join(w.name for w in self.waypoints if w.name) or "none"
+
+    def seek_name(self, name: str) -> int:
+        """Put the cursor on the waypoint called ``name`` (see ``find``) and return its index; ValueError
+        naming the known names when there is none."""
+        index = self.find(name)
+        if index is None:
+            raise ValueError(f"CpWaypointNavigator: no waypoint named {name!r} (named: {self.named()})")
+        with self._lock:
+            self.current_index = index
+        return index
 
     def on_reached(self, index: int) -> None:
         """Post EvWaypoint<index> (and EvWaypointFinal after the last) for the owning client; advance."""
-        client = self.owner
-        if index < MAX_WAYPOINT_EVENTS:
-            self.post_event(client.own_event(waypoint_event(index)))
-        if index == len(self.waypoints) - 1:
-            self.post_event(client.own_event(EvWaypointFinal))
+        if 0 <= index < len(self.waypoints):
+            is_last = index == len(self.waypoints) - 1
+            self.dispatcher.post_waypoint_event(index, self.waypoints[index], is_last)
         with self._lock:
             if self.current_index == index:
                 self.current_index = index + 1
