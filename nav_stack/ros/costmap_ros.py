@@ -14,7 +14,9 @@ retried each cycle. Readings follow REP 117: -inf (closer than range_min) and Na
 
 Out: ``costmap`` (OccupancyGrid), ``costmap_raw`` (nav2_msgs/Costmap), ``published_footprint``
 (PolygonStamped), all reliable transient local depth 1, at ``publish_frequency``; services
-``clear_entirely_<name>`` and ``get_costmap``. Relative topic names resolve against the owner's
+``clear_entirely_<name>`` and ``get_costmap``. ``<layer>.enabled`` may be set at run time (Nav2's
+dynamic parameters; SMACC2's CpCostmapSwitch does): the layer stops or resumes contributing and the
+whole grid is redrawn at the next update. Relative topic names resolve against the owner's
 namespace (Nav2's joinWithParentNamespace), so ``map`` is ``/map``.
 """
 
@@ -29,7 +31,9 @@ from geometry_msgs.msg import Point32, PolygonStamped
 from nav2_msgs.msg import Costmap
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap
 from nav_msgs.msg import OccupancyGrid
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
+from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 from rclpy.task import Future
 from rclpy.timer import Timer
@@ -101,11 +105,28 @@ class CostmapROS(NavLifecycleNode):
                 depth50 = QoSProfile(depth=50, reliability=SENSOR.reliability, durability=SENSOR.durability)
                 self._entities.append(self.create_subscription(
                     LaserScanMsg, self._topic(layer.params.topic), self._on_scan, depth50))
+        self.add_on_set_parameters_callback(self._on_layer_switch)
         name = self.get_name()
         self._entities += [
             self.create_service(ClearEntireCostmap, f"clear_entirely_{name}", self._on_clear),
             self.create_service(GetCostmap, "get_costmap", self._on_get_costmap),
         ]
+
+    def _on_layer_switch(self, parameters: list[Parameter]) -> SetParametersResult:
+        """Apply ``<layer>.enabled`` changes; a non-boolean value is refused, naming it."""
+        layers = {layer.name: layer for layer in self.costmap.layers} if self.costmap is not None else {}
+        for parameter in parameters:
+            layer_name, _, field = parameter.name.rpartition(".")
+            if field != "enabled" or layer_name not in layers:
+                continue
+            if not isinstance(parameter.value, bool):
+                return SetParametersResult(successful=False, reason=(
+                    f"{self.get_name()}: {parameter.name} must be a bool, got {parameter.value!r}"))
+            with self._lock:
+                layers[layer_name].enabled = parameter.value
+                self.costmap.redraw_all()  # type: ignore[union-attr]
+            self.get_logger().info(f"layer '{layer_name}' {'enabled' if parameter.value else 'disabled'}")
+        return SetParametersResult(successful=True)
 
     def activate(self) -> None:
         p = self.params

@@ -134,6 +134,11 @@ class LayeredCostmap:
                 layer.update_costs(self._costs, window)
         return window
 
+    def redraw_all(self) -> None:
+        """Redraw the whole grid at the next update (a layer was switched on or off)."""
+        if self._spec is not None:
+            self._pending = Window.full(self._spec)
+
     def clear_entirely(self) -> None:
         """Reset every layer (obstacles forgotten, static map kept) and redraw all at the next update."""
         for layer in self.layers:
