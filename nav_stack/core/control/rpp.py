@@ -231,7 +231,9 @@ class RegulatedPurePursuit:
                 if not self._turn_blocked(robot, float(local[-1, 2]), grid):
                     return cmd
                 creep = self._creep_to_goal(robot, local[-1], grid, 0.5 * grid.spec.resolution)
-                return creep if creep is not None else self._arc_onto_heading(robot, float(local[-1, 2]), grid)
+                if creep is not None:
+                    return creep
+                return self._arc_onto_heading(robot, float(local[-1, 2]), grid)
             if not self._collision_ahead(robot, cmd, reach, grid, path[-1]):
                 return cmd
             if lookahead <= closest:

@@ -119,7 +119,8 @@ class Footprint:
             samples.append(np.zeros((1, 2)))
         return np.concatenate(samples)
 
-    def cells_within(self, spec: GridSpec, x: float, y: float, yaw: float) -> tuple[npt.NDArray[np.int64], ...]:
+    def cells_within(self, spec: GridSpec, x: float, y: float,
+                     yaw: float) -> tuple[npt.NDArray[np.int64], ...]:
         """Indices ``(my, mx)`` of the grid cells lying entirely inside the footprint at the pose.
 
         Why entirely: these are the cells footprint clearing may free, and a cell the outline only

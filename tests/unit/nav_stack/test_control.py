@@ -39,8 +39,8 @@ from nav_stack.core.control.rpp import (
 )
 from nav_stack.core.costmap import CostmapParams, InflationLayer, LayeredCostmap, StaticLayer
 from nav_stack.core.geometry import Pose2D, headings_along
-from nav_stack.core.map_io import load_map
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
+from nav_stack.core.map_io import load_map
 
 REPO = Path(__file__).resolve().parents[3]
 DT = 0.05  # 20 Hz controller
