@@ -135,13 +135,14 @@ class Footprint:
         mx1, my1 = spec.world_to_cell(poly[:, 0].max(), poly[:, 1].max())
         gx, gy = np.meshgrid(np.arange(max(int(mx0), 0), min(int(mx1), spec.width - 1) + 1),
                              np.arange(max(int(my0), 0), min(int(my1), spec.height - 1) + 1))
-        gx, gy = gx.ravel(), gy.ravel()
-        wx, wy = spec.cell_to_world(gx, gy)
+        cols, rows = gx.ravel(), gy.ravel()
+        wx, wy = spec.cell_to_world(cols, rows)
         half = 0.5 * spec.resolution
-        inside = np.ones(len(gx), dtype=bool)
+        inside = np.ones(len(cols), dtype=bool)
         for sx, sy in ((-half, -half), (half, -half), (half, half), (-half, half)):
             inside &= points_in_polygon(wx + sx, wy + sy, poly)
-        return gy[inside], gx[inside]
+        return rows[inside], cols[inside]
+
 
 def footprint_costs(
     costs: CostArray, spec: GridSpec, footprint: Footprint, poses: npt.ArrayLike, outline_only: bool = False
