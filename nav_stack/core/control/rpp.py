@@ -22,11 +22,13 @@ robot stops there to turn onto the goal heading, so the rest of the arc is never
 that cut, a goal a few centimetres outside an obstacle's inscribed band (the seed's location3 beside
 a pillar) is unreachable: the local costmap's lidar cells put the path's last stretch inside the
 band, and every arc toward the goal "collides" beyond the point where the robot would have stopped.
-A robot that finds itself inside the band may still turn and move out (``motion_collides``). And
-where the robot stopped to turn (up to ``goal_dist_tol`` short of such a goal, nearer the obstacle
-than the goal itself), a final turn that would swing the body into it is not forced: the robot
-creeps on toward the goal point at ``min_approach_linear_velocity`` and turns there (seen: the seed
-patrol wedged at location3 in about one run of six, every recovery refused).
+A robot that finds itself inside the band may still turn and move out (``motion_collides``). The
+final turn itself is checked to its end, not for the first second of a turn that starts slowly (and
+never cut short by that goal rule: it starts within ``goal_dist_tol``). Where the robot stopped to
+turn (up to ``goal_dist_tol`` short of such a goal, nearer the obstacle than the goal itself), a
+final turn that would swing the body into it is not forced: the robot creeps on toward the goal
+point at ``min_approach_linear_velocity`` and turns there (seen: the seed patrol wedged at location3,
+its rear corner swung into the pillar by an unchecked turn, every recovery refused).
 
 Two more choices beyond Nav2 Jazzy's RPP, both against the rotate/drive limit cycle at the goal:
 ``stateful`` (Nav2 PR #5167, later releases) keeps rotating to the goal heading once the goal was
@@ -60,6 +62,8 @@ ALIGNED = 0.05
 #: m a blocked turn may be freed by a straight step (RegulatedPurePursuit._step_clear), and how far
 #: off the path the robot may be for it: the step is a way out of a corner, not a detour.
 STEP_CLEAR_DISTANCE, STEP_CLEAR_MAX_OFFSET = 0.10, 0.15
+#: m: radius of the arc that turns the robot onto the goal heading where a turn on the spot is blocked
+FINAL_ARC_RADIUS = 0.15
 
 
 @dataclass(frozen=True)
@@ -221,18 +225,25 @@ class RegulatedPurePursuit:
         while True:
             cmd, carrot = self._command(robot, velocity, path, local, lookahead, grid)
             reach = float(np.hypot(*carrot))
-            if not (p.use_collision_detection and self._collision_ahead(robot, cmd, reach, grid, path[-1])):
+            if not p.use_collision_detection:
                 return cmd
-            if self._rotating_to_goal_heading(path[-1], local[-1]):  # the final turn is what is blocked
-                return self._creep_to_goal(robot, local[-1], grid, closest)
+            if self._rotating_to_goal_heading(path[-1], local[-1]):  # checked to its end, not for 1 s
+                if not self._turn_blocked(robot, float(local[-1, 2]), grid):
+                    return cmd
+                creep = self._creep_to_goal(robot, local[-1], grid, 0.5 * grid.spec.resolution)
+                if creep is not None:
+                    return creep
+                return self._arc_onto_heading(robot, float(local[-1, 2]), grid)
+            if not self._collision_ahead(robot, cmd, reach, grid, path[-1]):
+                return cmd
             if lookahead <= closest:
                 return self._align_with(carrot, robot, velocity, grid, float(np.hypot(*local[0, :2])))
             lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
 
-    def _creep_to_goal(self, robot: Pose2D, goal: FloatArray, grid: CostGrid, done: float) -> Twist2D:
+    def _creep_to_goal(self, robot: Pose2D, goal: FloatArray, grid: CostGrid, done: float) -> Twist2D | None:
         """The final turn is blocked where the robot stopped (up to ``goal_dist_tol`` short of the goal,
         its body would swing into an obstacle): creep on along the arc to the goal position, which the
-        planner put clear of obstacles, and turn there. Raise when already within ``done`` (m) of it,
+        planner put clear of obstacles, and turn there. None when already within ``done`` (m) of it,
         when it lies behind, or when that arc is blocked too."""
         distance = float(np.hypot(goal[0], goal[1]))
         if distance > done and goal[0] > 0.0:
@@ -240,7 +251,29 @@ class RegulatedPurePursuit:
             creep = Twist2D(speed, speed * curvature_to(goal[:2]))
             if not self._collision_ahead(robot, creep, distance, grid):
                 return creep
+        return None
+
+    def _arc_onto_heading(self, robot: Pose2D, angle: float, grid: CostGrid) -> Twist2D:
+        """Even at the goal point the turn on the spot onto the goal heading (``angle`` rad, robot
+        frame) is blocked: turn along a tight arc instead, ahead if that is free, else back, at
+        ``min_approach_linear_velocity``. The centre moves while the body turns, so the corners sweep
+        less near the obstacle beside the robot; the goal tolerance is already met (stateful goal
+        checkers keep it met). Seen at the seed's location3, 0.408 m from a pillar's centre: a turn
+        on the spot passes the waffle's rear corner within 2 cm of the pillar, less than a cell,
+        while an arc of FINAL_ARC_RADIUS passes it by 6 cm or more. Raise when both arcs are blocked."""
+        speed = self.params.min_approach_linear_velocity
+        for direction in (1.0, -1.0):
+            arc = Twist2D(direction * speed, math.copysign(speed / FINAL_ARC_RADIUS, angle))
+            if not self._collision_ahead(robot, arc, math.inf, grid, None, abs(angle) / abs(arc.wz)):
+                return arc
         raise NoValidControl("collision ahead: the turn onto the goal heading is blocked")
+
+    def _turn_blocked(self, robot: Pose2D, turn: float, grid: CostGrid) -> bool:
+        """Whether turning on the spot by ``turn`` (rad, + = left) swings the body into an obstacle
+        anywhere along the turn (a turn started slowly is not checked for its first second only)."""
+        rate = self.params.rotate_to_heading_angular_vel
+        probe = Twist2D(0.0, math.copysign(rate, turn))
+        return self._collision_ahead(robot, probe, 0.0, grid, None, abs(turn) / rate)
 
     def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid,
                     offset: float) -> Twist2D:
@@ -292,18 +325,20 @@ class RegulatedPurePursuit:
         return Twist2D(speed, speed * curvature), carrot
 
     def _collision_ahead(self, robot: Pose2D, cmd: Twist2D, carrot_dist: float, grid: CostGrid,
-                         goal: FloatArray | None = None) -> bool:
-        """Simulate ``cmd`` in steps of ~one cell until the carrot distance, the time cap or the first
-        pose within ``goal_dist_tol`` of ``goal`` (world x, y), where the robot will stop."""
+                         goal: FloatArray | None = None, horizon: float | None = None) -> bool:
+        """Simulate ``cmd`` in steps of ~one cell until the carrot distance, the first pose within
+        ``goal_dist_tol`` of ``goal`` (world x, y), where the robot will stop, or ``horizon`` s
+        (default ``max_allowed_time_to_collision_up_to_carrot``)."""
         p = self.params
+        horizon = p.max_allowed_time_to_collision_up_to_carrot if horizon is None else horizon
         res = grid.spec.resolution
         if abs(cmd.vx) > 0.01:
             dt = res / abs(cmd.vx)
         elif abs(cmd.wz) > 1e-6:
             dt = 0.5 * res / abs(cmd.wz)
         else:
-            dt = p.max_allowed_time_to_collision_up_to_carrot
-        t = dt * np.arange(0, int(p.max_allowed_time_to_collision_up_to_carrot / dt) + 1)
+            dt = horizon
+        t = dt * np.arange(0, int(horizon / dt) + 1)
         yaw = robot.yaw + cmd.wz * t
         if abs(cmd.wz) > 1e-9:
             x = robot.x + cmd.vx / cmd.wz * (np.sin(yaw) - math.sin(robot.yaw))
@@ -312,9 +347,9 @@ class RegulatedPurePursuit:
             x = robot.x + cmd.vx * t * math.cos(robot.yaw)
             y = robot.y + cmd.vx * t * math.sin(robot.yaw)
         keep = np.hypot(x - robot.x, y - robot.y) < max(carrot_dist, res)
-        if goal is not None:
+        if goal is not None:  # where it stops to turn; a robot already there (turning) is checked all along
             arrived = np.nonzero(np.hypot(x - goal[0], y - goal[1]) < p.goal_dist_tol)[0]
-            if len(arrived):
+            if len(arrived) and arrived[0] > 0:
                 keep[arrived[0] + 1:] = False
         keep[0] = True
         return motion_collides(self.footprint, grid, x[keep], y[keep], yaw[keep])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,15 +30,19 @@ from nav_stack.core.control import (
 )
 from nav_stack.core.control.base import motion_collides
 from nav_stack.core.control.rpp import (
+    FINAL_ARC_RADIUS,
     approach_scaled_speed,
     curvature_to,
     find_carrot,
     obstacle_distance_from_cost,
     regulated_speed,
 )
+from nav_stack.core.costmap import CostmapParams, InflationLayer, LayeredCostmap, StaticLayer
 from nav_stack.core.geometry import Pose2D, headings_along
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
+from nav_stack.core.map_io import load_map
 
+REPO = Path(__file__).resolve().parents[3]
 DT = 0.05  # 20 Hz controller
 
 
@@ -234,13 +239,21 @@ def test_stateless_rpp_drives_back_toward_the_goal_point_as_nav2_jazzy_does() ->
 
 def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopped() -> None:
     """0.2 m short of the goal a turn on the spot would swing the body into an obstacle (simulated
-    here: every turn collides, every forward arc is free): creep on toward the goal point, slowly;
-    at the goal point itself, with the turn still blocked, say why instead."""
+    here: every turn on the spot collides, every arc is free): creep on toward the goal point,
+    slowly; at the goal point itself, with the turn still blocked, turn along a tight arc ahead, else
+    behind; with both arcs blocked too, say why."""
     rpp, grid, path = _rpp_near_goal(stateful=True)
     rpp.params = RPPParams(stateful=True)  # collision detection on
     rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
     creep = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert creep.vx == pytest.approx(rpp.params.min_approach_linear_velocity) and abs(creep.wz) < 1e-9
+    turn = float(path[-1, 2])
+    arc = rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert arc.vx == pytest.approx(rpp.params.min_approach_linear_velocity)
+    assert arc.wz == pytest.approx(math.copysign(arc.vx / FINAL_ARC_RADIUS, turn))
+    rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx >= 0.0  # type: ignore[method-assign]
+    assert rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid).vx < 0.0
+    rpp._collision_ahead = lambda robot, cmd, *args: True  # type: ignore[method-assign]
     with pytest.raises(NoValidControl, match="turn onto the goal heading is blocked"):
         rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
 
@@ -416,6 +429,39 @@ def test_rpp_with_its_back_to_a_wall_steps_away_before_turning_toward_a_path_tha
     assert motion_collides(waffle, grid, np.full_like(yaw, start.x), np.zeros_like(yaw), yaw)
     poses: list[Pose2D] = []
     pose, reached, _ = drive(RegulatedPurePursuit(footprint=waffle), path, grid, start, -1.84, poses=poses)
+    assert reached, pose
+    xs, ys, yaws = (np.array([getattr(p, f) for p in poses]) for f in ("x", "y", "yaw"))
+    assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
+
+
+@pytest.mark.parametrize(("start", "goal"), [
+    ((-1.456, -1.058, -1.58), (-1.475, -1.375)), ((-1.478, -1.106, -1.55), (-1.475, -1.375)),
+    ((-1.46, -1.074, -1.5), (-1.475, -1.375)), ((-1.48, -1.0, -1.6), (-1.475, -1.375)),
+    ((-1.44, -1.08, -1.45), (-1.475, -1.375)), ((-1.479, -1.229, -1.46), (-1.43, -1.34)),
+    ((-1.43, -1.34, -1.57), (-1.43, -1.34)),
+])
+def test_rpp_never_swings_the_body_into_the_pillar_on_the_final_turn_at_location3(
+        start: tuple[float, float, float], goal: tuple[float, float]) -> None:
+    """The battery patrol wedged at location3 (CI, and 2 runs in 18 of a loop): it arrived from the
+    station facing south, 0.36 m west of the pillar at (-1.1, -1.1), within goal_dist_tol of the
+    goal, and turned clockwise onto the goal heading (west). The turn was never checked: the check
+    stopped at the first pose within goal_dist_tol, here the first one. Its rear-left corner (0.238 m
+    from the axle) swung into the pillar and stuck. Now the whole turn is checked; blocked, the robot
+    creeps on to the goal point and turns there; where even that turn on the spot is blocked (at
+    location3 itself: the rear corner would pass within 2 cm of the pillar, less than a cell), it
+    turns along a tight arc. The turtlebot3_world static costmap; starts seen in the runs and around
+    them; goals: the planner's for location3 (moved out of the inscribed band) or location3 itself."""
+    occupancy = load_map(REPO / "maps" / "turtlebot3_world.yaml")
+    params = CostmapParams(robot_radius=0.22)
+    costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
+    costmap.set_map(occupancy.data, occupancy.spec)
+    costmap.update(Pose2D(0.0, 0.0, 0.0))
+    grid = CostGrid(costmap.costs, costmap.spec)
+    waffle = CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
+    path = polyline_path([start[:2], goal])
+    poses: list[Pose2D] = []
+    pose, reached, _ = drive(RegulatedPurePursuit(RPPParams(stateful=True), footprint=waffle), path, grid,
+                             Pose2D(*start), math.pi, poses=poses)
     assert reached, pose
     xs, ys, yaws = (np.array([getattr(p, f) for p in poses]) for f in ("x", "y", "yaw"))
     assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
