@@ -181,6 +181,11 @@ class PolygonFootprint:
 
 #: cells: how far a body touching lethal cells is inset, in turn, to find how deep it is in
 BODY_INSETS = (0.0, 0.5, 1.0, 1.5, 2.0)
+#: m: how far inside the inscribed band the centre of a circle with a ``body`` may go (the body's own
+#: check keeps it off lethal cells). Why: a planned path may run along the band's edge, which cells
+#: make ragged. Stopped there (the battery patrol's charging spot, 0.21 m from a pillar's cells), the
+#: waffle could not follow its path round the pillar: every pose 5 cm on was "in the band".
+BAND_ENTRY = 0.05
 
 
 def motion_collides(
@@ -194,8 +199,9 @@ def motion_collides(
     the inscribed band (253) on the next update, and then every motion, even a turn on the spot,
     would "collide" and the robot would never leave. A round robot inside the band may therefore
     move within it as long as no pose comes closer to a lethal cell than it is now: it can turn,
-    slide along the obstacle or back out, never push further in. Lethal and unknown cells always
-    collide; polygon footprints check lethal cost only and need no exception. A circle's ``body``
+    slide along the obstacle or back out, never push further in. A circle with a ``body`` (the real
+    outline, checked on its own below) may also enter the band, by up to BAND_ENTRY. Lethal and
+    unknown cells always collide; polygon footprints check lethal cost only and need no exception. A circle's ``body``
     outline must stay off lethal cells too. When it already touches one where the robot stands (a
     side against a pillar), the outline inset by the smallest of ``BODY_INSETS`` cells that clears
     every lethal cell there must stay clear along the motion: the robot may slide along or back
@@ -226,10 +232,14 @@ def _footprint_collides(
     hits = footprint.collides(cost)
     if not hits.any():
         return False
-    inside_band = cost[0] == INSCRIBED_INFLATED_OBSTACLE and not (cost >= LETHAL_OBSTACLE).any()
-    if not inside_band or not isinstance(footprint, CircleFootprint):
+    if not isinstance(footprint, CircleFootprint) or (cost >= LETHAL_OBSTACLE).any():
         return True
     clearance = grid.lethal_clearance(x, y, footprint.radius + grid.spec.resolution)
+    if footprint.body is not None:  # the body keeps off lethal cells; the circle may enter the band a little
+        floor = min(float(clearance[0]), footprint.radius - BAND_ENTRY)
+        return bool(((clearance < floor) & hits).any())
+    if cost[0] != INSCRIBED_INFLATED_OBSTACLE:
+        return True
     return bool(((clearance < clearance[0]) & hits).any())
 
 

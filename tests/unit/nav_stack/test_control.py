@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from pathlib import Path
@@ -41,6 +42,7 @@ from nav_stack.core.costmap import CostmapParams, InflationLayer, LayeredCostmap
 from nav_stack.core.geometry import Pose2D, headings_along
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
 from nav_stack.core.map_io import load_map
+from nav_stack.core.planning.navfn import NavfnParams, NavfnPlanner
 
 REPO = Path(__file__).resolve().parents[3]
 DT = 0.05  # 20 Hz controller
@@ -434,6 +436,37 @@ def test_rpp_with_its_back_to_a_wall_steps_away_before_turning_toward_a_path_tha
     assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
 
 
+@functools.cache
+def tb3_world_grid() -> CostGrid:
+    """turtlebot3_world's static global costmap (static + inflation layers, the yaml's values)."""
+    occupancy = load_map(REPO / "maps" / "turtlebot3_world.yaml")
+    params = CostmapParams(robot_radius=0.22)
+    costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
+    costmap.set_map(occupancy.data, occupancy.spec)
+    costmap.update(Pose2D(0.0, 0.0, 0.0))
+    return CostGrid(costmap.costs, costmap.spec)
+
+
+@pytest.mark.parametrize("heading", [-3.14, -2.36, -1.57, -0.79, 0.0, 0.79])
+def test_rpp_leaves_the_charging_spot_beside_a_pillar_along_the_planned_path(heading: float) -> None:
+    """CI red again: the battery patrol stopped to charge at (-1.22, -0.742), within the station's
+    goal tolerance and 0.21 m from the cells of the pillar at (-1.1, -1.1), at the edge of its
+    inscribed band. NavFn's path to location3 runs round the pillar along that ragged edge, and
+    every pose 5 cm on was "in the band": no valid command, for 1,600 s of retries. The waffle's
+    circle may now enter the band by BAND_ENTRY while its box keeps off lethal cells."""
+    grid = tb3_world_grid()
+    waffle = CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
+    start = Pose2D(-1.22, -0.742, heading)
+    path = NavfnPlanner(NavfnParams(tolerance=0.5)).create_plan(
+        start, Pose2D(-1.43, -1.34, math.pi), grid.costs, grid.spec)
+    poses: list[Pose2D] = []
+    pose, reached, _ = drive(RegulatedPurePursuit(RPPParams(stateful=True), footprint=waffle), path, grid,
+                             start, float(path[-1, 2]), poses=poses, max_steps=1500)
+    assert reached, pose
+    xs, ys, yaws = (np.array([getattr(p, f) for p in poses]) for f in ("x", "y", "yaw"))
+    assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
+
+
 @pytest.mark.parametrize(("start", "goal"), [
     ((-1.456, -1.058, -1.58), (-1.475, -1.375)), ((-1.478, -1.106, -1.55), (-1.475, -1.375)),
     ((-1.46, -1.074, -1.5), (-1.475, -1.375)), ((-1.48, -1.0, -1.6), (-1.475, -1.375)),
@@ -451,12 +484,7 @@ def test_rpp_never_swings_the_body_into_the_pillar_on_the_final_turn_at_location
     location3 itself: the rear corner would pass within 2 cm of the pillar, less than a cell), it
     turns along a tight arc. The turtlebot3_world static costmap; starts seen in the runs and around
     them; goals: the planner's for location3 (moved out of the inscribed band) or location3 itself."""
-    occupancy = load_map(REPO / "maps" / "turtlebot3_world.yaml")
-    params = CostmapParams(robot_radius=0.22)
-    costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
-    costmap.set_map(occupancy.data, occupancy.spec)
-    costmap.update(Pose2D(0.0, 0.0, 0.0))
-    grid = CostGrid(costmap.costs, costmap.spec)
+    grid = tb3_world_grid()
     waffle = CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX))
     path = polyline_path([start[:2], goal])
     poses: list[Pose2D] = []
