@@ -267,9 +267,12 @@ class ControllerServer(NavLifecycleNode):
         now = self._now()
         if run.last_valid == -math.inf:
             run.last_valid = now
-        if snap is None or frames is None:
+        if snap is None or frames is None or not self.costmap_node.current:
             if now - run.last_valid > self.params.costmap_update_timeout:
-                raise ControllerError("the local costmap has no data (no scan or no robot pose)")
+                raise ControllerError(
+                    "the local costmap has no data (no scan or no robot pose)" if snap is None
+                    else "the local costmap has had no scan since it was cleared")
+            self._cmd.stop()  # never drive on a grid that may lack the obstacles around the robot
             return
         controller, checker, progress = self._plugins(run.ids)
         local_frame = self.costmap_node.global_frame

@@ -86,6 +86,8 @@ class CostmapROS(NavLifecycleNode):
         self._entities: list[object] = []
         self._layer_timers: list[object] = []
         self._warmup_timer: Timer | None = None
+        self._cleared = False  # cleared entirely, and no update with a scan since
+        self._scan_since_clear = False
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -204,6 +206,17 @@ class CostmapROS(NavLifecycleNode):
         return self._map_received or self.costmap is None or not any(
             isinstance(layer, StaticLayer) for layer in self.costmap.layers)
 
+    @property
+    def current(self) -> bool:
+        """False from a clear_entirely until an update has drawn a scan received after it.
+
+        Why: cleared, the obstacle layer is empty until the next update draws the next scan (up to
+        1 / update_frequency s later). A controller checking its commands against that empty grid
+        drove at full speed into a pillar the recovery had just cleared away (the battery patrol, CI).
+        Nav2's controller likewise waits while its costmap is not current.
+        """
+        return not self._cleared
+
     def _on_scan(self, msg: LaserScanMsg) -> None:
         self._pending_scans.append((msg, time.monotonic()))
         self._add_scans()
@@ -231,6 +244,7 @@ class CostmapROS(NavLifecycleNode):
                 for layer in self.costmap.layers:
                     if isinstance(layer, ObstacleLayer):
                         layer.add_scan(scan, (tf.x, tf.y, tf.yaw))
+                        self._scan_since_clear = True
         self._pending_scans = keep
 
     def _update(self) -> None:
@@ -246,6 +260,8 @@ class CostmapROS(NavLifecycleNode):
                 self.get_logger().info("waiting for the map", throttle_duration_sec=5.0)
                 return
             self.costmap.update(pose)
+            if self._scan_since_clear:
+                self._cleared = False
         if not self.ready.done():
             self.ready.set_result(True)
 
@@ -272,6 +288,8 @@ class CostmapROS(NavLifecycleNode):
         with self._lock:
             if self.costmap is not None:
                 self.costmap.clear_entirely()
+                self._cleared = any(isinstance(layer, ObstacleLayer) for layer in self.costmap.layers)
+                self._scan_since_clear = False
         self._pending_scans.clear()
         self._update()
         self.get_logger().info("costmap cleared entirely")

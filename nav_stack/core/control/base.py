@@ -194,23 +194,22 @@ def motion_collides(
     """Whether one simulated motion collides: poses (m, m, rad) along the arrays, starting where the
     robot stands now (index 0).
 
-    Why the exception: the costmap's cells make obstacles look up to about a cell larger than they
-    are, so a round robot that passed a pillar with centimetres to spare can find its own cell in
-    the inscribed band (253) on the next update, and then every motion, even a turn on the spot,
-    would "collide" and the robot would never leave. A round robot inside the band may therefore
-    move within it as long as no pose comes closer to a lethal cell than it is now: it can turn,
-    slide along the obstacle or back out, never push further in. A circle with a ``body`` (the real
-    outline, checked on its own below) may also enter the band, by up to BAND_ENTRY. Lethal and
-    unknown cells always collide; polygon footprints check lethal cost only and need no exception. A circle's ``body``
-    outline must stay off lethal cells too. When it already touches one where the robot stands (a
-    side against a pillar), the outline inset by the smallest of ``BODY_INSETS`` cells that clears
-    every lethal cell there must stay clear along the motion: the robot may slide along or back
-    out, but not push the body further in than it is, to within half a cell. (With the circle's
-    rules alone, a turn on the spot keeps the centre's clearance and passed, while the rear corner
-    swung into the centre pillar: the robot wedged there.) Deeper than two cells, only the
-    circle's rules decide. RPP and the
-    rotation shim use it; DWB does not: for its 400 trajectories × 35 poses the clearances take
-    about 30 ms a cycle, which slowed the SLAM exploration past its time limit.
+    Why the exception: the costmap's cells make obstacles look up to about a cell larger than they are, so
+    a round robot that passed a pillar with centimetres to spare can find its own cell in the inscribed
+    band (253) on the next update, and then every motion, even a turn on the spot, would "collide" and the
+    robot would never leave. A round robot inside the band may therefore move within it as long as no pose
+    comes closer to a lethal cell than it is now: it can turn, slide along the obstacle or back out, never
+    push further in. A circle with a ``body`` (the real outline, checked on its own below) may also enter
+    the band, by up to BAND_ENTRY. Lethal and unknown cells always collide; polygon footprints check
+    lethal cost only and need no exception. A circle's ``body`` outline must stay off lethal cells too.
+    When it already touches one where the robot stands (a side against a pillar), the outline inset by the
+    smallest of ``BODY_INSETS`` cells that clears every lethal cell there must stay clear along the
+    motion: the robot may slide along or back out, but not push the body further in than it is, to within
+    half a cell. (With the circle's rules alone, a turn on the spot keeps the centre's clearance and
+    passed, while the rear corner swung into the centre pillar: the robot wedged there.) Deeper than two
+    cells, only the circle's rules decide. RPP and the rotation shim use it; DWB does not: for its 400
+    trajectories × 35 poses the clearances take about 30 ms a cycle, which slowed the SLAM exploration
+    past its time limit.
     """
     if _footprint_collides(footprint, grid, x, y, yaw):
         return True

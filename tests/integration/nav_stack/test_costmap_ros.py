@@ -131,7 +131,7 @@ def test_pillars_are_lethal_and_inflated_and_the_missing_one_is_seen(costmaps: A
 
 
 def test_clear_entirely_and_get_costmap(costmaps: Any) -> None:
-    probe, _, _ = costmaps
+    probe, global_costmap, _ = costmaps
     get = probe.create_client(GetCostmap, "/global_costmap/get_costmap")
     clear = probe.create_client(ClearEntireCostmap, "/global_costmap/clear_entirely_global_costmap")
     pause = probe.create_client(SetBool, "/sim2d/pause")
@@ -147,7 +147,9 @@ def test_clear_entirely_and_get_costmap(costmaps: Any) -> None:
         cleared = world.call(get, GetCostmap.Request()).map
         assert cost_at(cleared, -1.24, 0.0) < INSCRIBED_INFLATED_OBSTACLE, "the scan obstacle survived"
         assert cost_at(cleared, 0.0, 0.0) == LETHAL_OBSTACLE, "the static map was lost"
+        assert not global_costmap.current, "no scan since the clear: a controller must not trust it"
     finally:
         world.call(pause, SetBool.Request(data=False))
+    wait_until(lambda: global_costmap.current, 20.0, "an update drawing a scan received after the clear")
     wait_until(lambda: cost_at(world.call(get, GetCostmap.Request()).map, -1.24, 0.0) == LETHAL_OBSTACLE,
                20.0, "the scan to mark the pillar again")
