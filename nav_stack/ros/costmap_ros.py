@@ -210,8 +210,8 @@ class CostmapROS(NavLifecycleNode):
     def current(self) -> bool:
         """False from a clear_entirely until an update has drawn a scan received after it.
 
-        Why: cleared, the obstacle layer is empty until the next update draws the next scan (up to
-        1 / update_frequency s later). A controller checking its commands against that empty grid
+        Why: cleared, the obstacle layer is empty until an update draws the next scan (the first scan
+        after a clear is drawn at once). A controller checking its commands against that empty grid
         drove at full speed into a pillar the recovery had just cleared away (the battery patrol, CI).
         Nav2's controller likewise waits while its costmap is not current.
         """
@@ -220,6 +220,8 @@ class CostmapROS(NavLifecycleNode):
     def _on_scan(self, msg: LaserScanMsg) -> None:
         self._pending_scans.append((msg, time.monotonic()))
         self._add_scans()
+        if self._cleared and self._scan_since_clear:
+            self._update()  # current again with the first scan, not at the next timer tick
 
     def _add_scans(self) -> None:
         """Give the obstacle layers every waiting scan whose sensor pose TF can now tell."""
