@@ -25,7 +25,7 @@ class BatteryParams:
     charge_per_second: float = 0.02
     station_x: float = -1.37
     station_y: float = -0.82
-    station_radius: float = 0.3
+    station_radius: float = 0.4  # goal tolerance 0.25 + goal moved off a pillar's band + localization error
     rest_linear_velocity: float = 0.01
     rest_angular_velocity: float = 0.05
     nominal_voltage: float = 11.1

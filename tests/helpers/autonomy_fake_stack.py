@@ -3,7 +3,7 @@ station and charges at it (sim time), printing "Nav2 is ready" like the real sta
 
 Battery model (fractions of a full charge), like sim2d's but deterministic with FakeNav2's instant
 (teleporting) navigation: −``drain`` per metre the robot moved, +``charge`` per sim s while it is
-within 0.3 m of the seed's station (-1.37, -0.82).
+within 0.4 m of the seed's station (-1.37, -0.82).
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ def main() -> int:
         relocalised = len(fake.initial_poses) != state.get("resets", 0)  # /initialpose moved map->odom
         moved = 0.0 if last_at is None or relocalised else math.dist((x, y), last_at)  # type: ignore[arg-type]
         state["t"], state["at"], state["resets"] = now, (x, y), len(fake.initial_poses)
-        docked = math.hypot(x + 1.37, y + 0.82) <= 0.3
+        docked = math.hypot(x + 1.37, y + 0.82) <= 0.4
         change = options.charge * dt if docked else -options.drain * moved
         state["level"] = min(1.0, max(0.0, float(state["level"]) + change))  # type: ignore[arg-type]
         pub.publish(BatteryState(percentage=float(state["level"])))  # type: ignore[arg-type]

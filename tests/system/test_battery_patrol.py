@@ -6,7 +6,7 @@
 * sm_battery_patrol, driven by sim2d's simulated battery, does two rounds with recharges and resumes
   the interrupted leg. To get recharges within two rounds, the low threshold sits just under a full
   charge (0.95) and charged at 0.99: with the demo's config/sim2d_battery_patrol.yaml sim2d drains
-  2 % per metre, a round is about 3.5 m, and it charges 2 % per s parked within 0.3 m of the station.
+  2 % per metre, a round is about 3.5 m, and it charges 2 % per s parked within 0.4 m of the station.
 
 Slow. Skipped until nav_stack.ros.bringup exists.
 """
