@@ -119,29 +119,16 @@ class Footprint:
             samples.append(np.zeros((1, 2)))
         return np.concatenate(samples)
 
-    def cells_within(self, spec: GridSpec, x: float, y: float,
-                     yaw: float) -> tuple[npt.NDArray[np.int64], ...]:
-        """Indices ``(my, mx)`` of the grid cells lying entirely inside the footprint at the pose.
-
-        Why entirely: these are the cells footprint clearing may free, and a cell the outline only
-        cuts through can hold an obstacle in its part outside the robot. Clearing it (Nav2 clears
-        every cell the outline touches) erased the near face of a pillar 0.21 m from the centre of
-        a 0.22 m footprint, and the waffle's box, whose rear corners reach 0.238 m, was let swing a
-        corner into the pillar and wedged there (the battery patrol beside (-1.1, -1.1)). A cell is
-        inside when its four corners are (exact for convex footprints, which Nav2's are).
-        """
+    def cells_at(self, spec: GridSpec, x: float, y: float, yaw: float) -> tuple[npt.NDArray[np.int64], ...]:
+        """Indices ``(my, mx)`` of the grid cells whose centres lie inside the footprint at the pose."""
         poly = self.transformed(x, y, yaw)
         mx0, my0 = spec.world_to_cell(poly[:, 0].min(), poly[:, 1].min())
         mx1, my1 = spec.world_to_cell(poly[:, 0].max(), poly[:, 1].max())
         gx, gy = np.meshgrid(np.arange(max(int(mx0), 0), min(int(mx1), spec.width - 1) + 1),
                              np.arange(max(int(my0), 0), min(int(my1), spec.height - 1) + 1))
-        cols, rows = gx.ravel(), gy.ravel()
-        wx, wy = spec.cell_to_world(cols, rows)
-        half = 0.5 * spec.resolution
-        inside = np.ones(len(cols), dtype=bool)
-        for sx, sy in ((-half, -half), (half, -half), (half, half), (-half, half)):
-            inside &= points_in_polygon(wx + sx, wy + sy, poly)
-        return rows[inside], cols[inside]
+        wx, wy = spec.cell_to_world(gx.ravel(), gy.ravel())
+        inside = points_in_polygon(wx, wy, poly)
+        return gy.ravel()[inside], gx.ravel()[inside]
 
 
 def footprint_costs(

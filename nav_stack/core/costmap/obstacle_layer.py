@@ -5,8 +5,7 @@ scans first clear (ray tracing from the sensor up to ``raytrace_max_range``, ski
 ``raytrace_min_range``, the return's own cell excluded), then mark returns whose distance lies in
 ``[obstacle_min_range, obstacle_max_range)``. Readings outside the scan's ``[range_min, range_max)``
 or NaN are dropped; +inf clears up to ``range_max`` only when ``inf_is_valid``. With
-``footprint_clearing_enabled`` the cells lying entirely under the robot are set free (Nav2 frees
-every cell the outline touches; see Footprint.cells_within for why not here). The layer keeps its own
+``footprint_clearing_enabled`` the cells under the robot are set free. The layer keeps its own
 grid (unknown until seen when ``track_unknown_space``) and merges it into the master by maximum
 (``combination_method`` 1) or by overwriting with known cells (0).
 """
@@ -108,7 +107,7 @@ class ObstacleLayer(Layer):
             return bounds
         changed = self._process()
         if self.params.footprint_clearing_enabled and self._footprint is not None:
-            my, mx = self._footprint.cells_within(self._spec, *robot_pose)
+            my, mx = self._footprint.cells_at(self._spec, *robot_pose)
             self.grid[my, mx] = FREE_SPACE
             changed = changed.union(Window.around(mx, my))
         return bounds.union(changed.clipped(self._spec))

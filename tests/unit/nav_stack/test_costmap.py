@@ -165,21 +165,6 @@ def test_footprint_clearing_frees_cells_under_the_robot() -> None:
     assert costmap.costs[10, 40] == 0
 
 
-def test_footprint_clearing_keeps_a_mark_in_a_cell_the_outline_cuts_through() -> None:
-    """A round 0.22 m robot whose outline crosses the marked cell (its centre 0.20 m away, its far
-    edge 0.225 m): the part outside the robot may hold the obstacle, so the mark stays. Nav2 would
-    free it; here it wedged the waffle's rear corner against a pillar the costmap no longer showed."""
-    params = CostmapParams(robot_radius=0.22, footprint_padding=0.0, track_unknown_space=True)
-    layer = ObstacleLayer(params)
-    costmap = LayeredCostmap(params, [layer], GridSpec(100, 20, 0.05))
-    layer.add_scan(one_beam(2.0), (0.025, 0.525, 0.0))  # marks the cell x = 2.00 .. 2.05 m
-    costmap.update((0.025, 0.525, 0.0))
-    costmap.update((1.825, 0.525, 0.0))  # cell centre 0.20 m ahead, inside the circle; far edge outside
-    assert costmap.costs[10, 40] == 254
-    costmap.update((1.925, 0.525, 0.0))  # the whole cell under the robot now
-    assert costmap.costs[10, 40] == 0
-
-
 def test_rolling_window_recentres_and_keeps_obstacles_in_place() -> None:
     params = replace(CostmapParams.local_defaults(), footprint=SQUARE, footprint_padding=0.0)
     layer = ObstacleLayer(params)
