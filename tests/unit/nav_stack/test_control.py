@@ -243,7 +243,7 @@ def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopp
     """0.2 m short of the goal a turn on the spot would swing the body into an obstacle (simulated
     here: every turn on the spot collides, every arc is free): creep on toward the goal point,
     slowly; at the goal point itself, with the turn still blocked, turn along a tight arc ahead, else
-    behind; with both arcs blocked too, say why."""
+    behind; with both arcs blocked too, turn on the spot after all (refusing ended the navigation)."""
     rpp, grid, path = _rpp_near_goal(stateful=True)
     rpp.params = RPPParams(stateful=True)  # collision detection on
     rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
@@ -256,8 +256,8 @@ def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopp
     rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx >= 0.0  # type: ignore[method-assign]
     assert rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid).vx < 0.0
     rpp._collision_ahead = lambda robot, cmd, *args: True  # type: ignore[method-assign]
-    with pytest.raises(NoValidControl, match="turn onto the goal heading is blocked"):
-        rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    last_resort = rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
+    assert last_resort.vx == 0.0 and last_resort.wz > 0.0  # every escape blocked: the turn on the spot
 
 
 def test_rpp_brakes_an_in_place_turn_to_stop_on_its_target() -> None:
