@@ -95,6 +95,9 @@ class _Running:
             log = log_path.open("w", encoding="utf-8", buffering=1)
         env = dict(os.environ, PYTHONUNBUFFERED="1", **spec.env)
         env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        # A crash in native code (rclpy, Fast DDS, numba) leaves the Python stacks of every thread
+        # in the process's log instead of a bare "Segmentation fault".
+        env.setdefault("PYTHONFAULTHANDLER", "1")
         try:
             self.proc = subprocess.Popen(
                 list(spec.cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
