@@ -5,6 +5,13 @@ We keep NavFn's observable behaviour (cost translation 50 + 0.8·c, impassable �
 charged 253 when ``allow_unknown``, ``use_astar`` switch, ±``tolerance`` square searched for the
 reachable cell nearest the goal) but search the 8-connected cell graph with a binary heap from
 the start, so the path is the exact cost-optimal cell sequence rather than a gradient trace.
+
+One choice beyond NavFn: among the reachable candidates within ``EQUALLY_NEAR`` of the nearest one,
+the plan ends at the one cheapest to reach. A goal inside a round pillar has a ring of candidates at
+nearly the same distance, and which of them is nearest follows the lidar marks of the last scan:
+NavFn's rule made the 1 Hz replans jump from one side of the pillar to the other while the robot
+drove between them (seen: upstream's waypoint (0, 0) took 41 to 130 s of sim time and sometimes
+failed). The cheapest candidate is the one the robot is already heading for, so the choice holds.
 ``max_planning_time`` and ``max_iterations`` are our additions (Smac's knobs) so a plan on a huge
 map ends with TIMEOUT instead of blocking the planner server.
 """
@@ -17,6 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D
 from nav_stack.core.grid import GridSpec
@@ -45,6 +53,9 @@ Search = Callable[[SearchGraph, int, int, bool, int, Callable[[], bool]], Search
 
 #: NavFn's traversal cost of an inscribed cell, charged only while escaping an inscribed band.
 ESCAPE_COST = NEUTRAL_COST + COST_FACTOR * 253
+#: m: tolerance candidates this much farther from the goal than the nearest reachable one count as
+#: equally near; the plan ends at the cheapest of them (two cells of the default 5 cm costmap).
+EQUALLY_NEAR = 0.1
 
 
 @dataclass(frozen=True)
@@ -119,16 +130,14 @@ class NavfnPlanner:
             result = self._search(
                 graph,
                 graph.index(*start_cell),
-                graph.index(*candidates[0]),
+                graph.index(*_search_target(spec, start, goal, goal_cell, candidates)),
                 self.params.use_astar,
                 self.params.max_iterations,
                 lambda: self._clock() > deadline,
             )
         except SearchTimeoutError as exc:
             raise PlanningError(PlanErrorCode.TIMEOUT, str(exc)) from exc
-        target = result.reached
-        if target is None:
-            target = next((graph.index(*c) for c in candidates if result.was_expanded(graph.index(*c))), None)
+        target = self._end_cell(result, graph, spec, goal, goal_cell, candidates)
         if target is None:
             raise PlanningError(
                 PlanErrorCode.NO_VALID_PATH,
@@ -141,3 +150,43 @@ class NavfnPlanner:
         if graph.cell(target) == goal_cell:
             points[-1] = (goal.x, goal.y)
         return build_path(points, goal.yaw, spec.resolution)
+
+    @staticmethod
+    def _end_cell(result: SearchResult, graph: SearchGraph, spec: GridSpec, goal: Pose2D,
+                  goal_cell: tuple[int, int], candidates: list[tuple[int, int]]) -> int | None:
+        """Where the plan ends (flat index): the goal cell when it was reached, else the cheapest reached
+        candidate among those within EQUALLY_NEAR of the nearest reached one; None when none was reached.
+
+        Dijkstra has expanded every cell cheaper than the search's target, so its choice is exact; A*
+        (``use_astar``) chooses among the cells it expanded on its way to the target, which
+        ``_search_target`` put on the robot's side."""
+        reached = [c for c in candidates
+                   if graph.index(*c) == result.reached or result.was_expanded(graph.index(*c))]
+        if not reached:
+            return None
+        if reached[0] == goal_cell:
+            return graph.index(*goal_cell)
+        indices = np.array([graph.index(*c) for c in reached])
+        cost = np.where(_equally_near(spec, goal, reached), result.g[indices], math.inf)
+        return int(indices[int(np.argmin(cost))])
+
+
+def _equally_near(spec: GridSpec, goal: Pose2D, cells: list[tuple[int, int]]) -> npt.NDArray[np.bool_]:
+    """Which of ``cells`` (nearest the goal first) lie within EQUALLY_NEAR of the goal's distance to the
+    first."""
+    xs, ys = np.array(cells).T
+    wx, wy = spec.cell_to_world(xs, ys)
+    distance = np.hypot(wx - goal.x, wy - goal.y)
+    return np.asarray(distance <= distance[0] + EQUALLY_NEAR)
+
+
+def _search_target(spec: GridSpec, start: Pose2D, goal: Pose2D, goal_cell: tuple[int, int],
+                   candidates: list[tuple[int, int]]) -> tuple[int, int]:
+    """The cell the search runs toward: the goal cell when passable, else, of the candidates equally
+    near the goal, the one nearest the start (the heuristic's guess at the cheapest)."""
+    if candidates[0] == goal_cell:
+        return goal_cell
+    near = [c for c, keep in zip(candidates, _equally_near(spec, goal, candidates), strict=True) if keep]
+    xs, ys = np.array(near).T
+    wx, wy = spec.cell_to_world(xs, ys)
+    return near[int(np.argmin(np.hypot(wx - start.x, wy - start.y)))]
