@@ -21,7 +21,10 @@ The old wall-clock comparison stays possible: ``--rtf 1 2 --no-lockstep`` runs n
 ``--no-lockstep`` (through the demo's ``--bringup`` option) at those factors.
 
     .venv/bin/python -m bench.bench_mission [--rtf max] [--runs 10] [--load 0 2] [--no-lockstep]
-                                            [--robot tb4] [--note TEXT] [--no-record]
+                                            [--robot tb4] [--waypoint2 0,0,0] [--note TEXT] [--no-record]
+
+``--waypoint2 0,0,0`` measures upstream's second waypoint, inside the middle pillar, which NavFn's
+goal tolerance turns into the nearest reachable point (the README's "NavFn goal tolerance" row).
 """
 
 from __future__ import annotations
@@ -84,12 +87,14 @@ class Run:
 
 
 def demo_command(rtf: str, lockstep: bool = True, python: str = sys.executable,
-                 robot: str | None = None) -> list[str]:
-    """``navsuite-demo --rtf R --quiet --no-report [--robot NAME]``; without lockstep nav-bringup gets
-    ``--no-lockstep``."""
+                 robot: str | None = None, waypoint2: str | None = None) -> list[str]:
+    """``navsuite-demo --rtf R --quiet --no-report [--robot NAME] [--waypoint2 X,Y,YAW]``; without
+    lockstep nav-bringup gets ``--no-lockstep``."""
     command = [python, "-m", DEMO_MODULE, "--rtf", rtf, "--quiet", "--no-report"]
     if robot:
         command += ["--robot", robot]
+    if waypoint2:
+        command += ["--waypoint2", waypoint2]
     if not lockstep:
         command += ["--bringup", f"{shlex.quote(python)} -m nav_stack.ros.bringup --no-lockstep"]
     return command
@@ -208,6 +213,7 @@ def main() -> int:
     parser.add_argument("--no-lockstep", dest="lockstep", action="store_false", default=True,
                         help="nav-bringup --no-lockstep: the simulator follows the wall clock")
     parser.add_argument("--robot", help="navsuite-demo --robot (waffle, burger, tb4; default waffle)")
+    parser.add_argument("--waypoint2", help="navsuite-demo --waypoint2 X,Y,YAW (e.g. 0,0,0: inside a pillar)")
     parser.add_argument("--note", default="", help="appended to every recorded row's note")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
@@ -220,7 +226,9 @@ def main() -> int:
         mode = f"rtf {rtf}, {'lockstep' if args.lockstep else 'no lockstep'}"
         if args.robot:
             mode += f", robot {args.robot}"
-        command = demo_command(rtf, args.lockstep, robot=args.robot)
+        if args.waypoint2:
+            mode += f", waypoint2 {args.waypoint2}"
+        command = demo_command(rtf, args.lockstep, robot=args.robot, waypoint2=args.waypoint2)
         print(f"mission: {' '.join(shlex.quote(c) for c in command)}", flush=True)
         reference: tuple[str, ...] | None = None
         sequences_seen: set[tuple[str, ...]] = set()
