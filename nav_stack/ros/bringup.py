@@ -19,11 +19,14 @@ readiness line (all with use_sim_time true; sim2d publishes /clock):
    confirms it, then exits (not required: its exit does not end the launch).
 
 ``--isolated`` runs localization and navigation as two processes instead (``localization`` before
-``initial_pose``, then ``navigation``). Then it prints exactly ``Nav2 is ready``. A process that
-dies ends the launch with its exit code (and its last lines are shown); Ctrl-C stops everything in
-reverse order. The simulator stays a separate process (nav_stack never imports sim2d). The console
-shows readiness, warnings and errors; each process's full log is in ``--log-dir`` (``--verbose``
-streams it all).
+``initial_pose``, then ``navigation``); ``NAVSUITE_LAYOUT=isolated`` in the environment makes that the
+default, so that every command and test that starts nav-bringup (the demos, the system tests) can be
+run in that layout without changing them (``--slam`` ignores it: it always runs separate processes).
+
+Then it prints exactly ``Nav2 is ready``. A process that dies ends the launch with its exit code
+(and its last lines are shown); Ctrl-C stops everything in reverse order. The simulator stays a
+separate process (nav_stack never imports sim2d). The console shows readiness, warnings and errors;
+each process's full log is in ``--log-dir`` (``--verbose`` streams it all).
 
 Lockstep (default; ``--no-lockstep`` turns it off): sim2d waits for the node processes (roles
 ``nav2``, or ``localization`` and ``navigation``) before its first step and never runs more than
@@ -55,6 +58,9 @@ def _python_module(module: str, *args: str) -> list[str]:
 
 
 # ------------------------------------------------------------------ launch
+#: Environment variable naming the default process layout (``one-process`` or ``isolated``).
+LAYOUT_ENV = "NAVSUITE_LAYOUT"
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="nav-bringup", description=__doc__.split("\n\n")[0])
     parser.add_argument("--world", default=None,
@@ -76,8 +82,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-sim", action="store_true", help="only the stack (a sim runs elsewhere)")
     parser.add_argument("--slam", action="store_true",
                         help="map with SLAM (slam + map_saver) instead of map_server + AMCL")
-    parser.add_argument("--isolated", action="store_true",
-                        help="localization and navigation as two processes (default: one)")
+    parser.add_argument("--isolated", action="store_true", default=None,
+                        help=f"localization and navigation as two processes (default: one, or "
+                             f"${LAYOUT_ENV}=isolated)")
     parser.add_argument("--no-lockstep", dest="lockstep", action="store_false", default=True,
                         help="let the simulator run by the wall clock alone (default: lockstep)")
     parser.add_argument("--participant", action="append", default=[], metavar="ROLE",
@@ -122,8 +129,18 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     own_params = args.params is not None
     args.params = args.params or str(params_for_robot(args.robot))
     _validate(args, parser)
+    if args.isolated is None:
+        args.isolated = _layout_is_isolated(parser) and not args.slam
     _apply_world_defaults(args, own_params)
     return args
+
+
+def _layout_is_isolated(parser: argparse.ArgumentParser) -> bool:
+    """The default layout from $NAVSUITE_LAYOUT: ``one-process`` (or unset) or ``isolated``."""
+    layout = os.environ.get(LAYOUT_ENV, "one-process").strip().lower() or "one-process"
+    if layout not in ("one-process", "isolated"):
+        parser.error(f"${LAYOUT_ENV}={layout!r}: use 'one-process' or 'isolated'")
+    return layout == "isolated"
 
 
 def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:

@@ -41,6 +41,19 @@ def test_isolated_launch_starts_sim_localization_initial_pose_then_navigation():
     assert "--lockstep-participants" not in _specs("--no-lockstep")[0].cmd
 
 
+def test_the_layout_variable_makes_isolated_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
+    """NAVSUITE_LAYOUT=isolated runs every nav-bringup (the demos', the system tests') in two node
+    processes; --slam keeps its own layout; an unknown value is refused naming the variable."""
+    monkeypatch.setenv(bringup.LAYOUT_ENV, "isolated")
+    assert [s.name for s in _specs()] == ["sim2d", "localization", "initial_pose", "navigation"]
+    assert [s.name for s in _specs("--slam")][:2] == ["sim2d", "slam"]
+    monkeypatch.setenv(bringup.LAYOUT_ENV, "one-process")
+    assert [s.name for s in _specs()] == ["sim2d", "initial_pose", "nav2"]
+    monkeypatch.setenv(bringup.LAYOUT_ENV, "split")
+    with pytest.raises(SystemExit):
+        _specs()
+
+
 def test_slam_mode_runs_slam_and_map_saver_instead_of_map_server_and_amcl():
     specs = _specs("--slam", "--x", "-2.0", "--y", "-0.5")
     assert [s.name for s in specs] == ["sim2d", "slam", "map_saver", "lifecycle_manager_slam", "navigation"]
