@@ -7,12 +7,12 @@ mapped 'y' to EvKeyPressI, this one maps every letter to its own event). ``smacc
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 
 from std_msgs.msg import UInt16
 
 from smacc_py.core import ISmaccClient, SmaccClientBehavior, key_press_event
+from smacc_py.ros.components.signal import SmaccSignal
 from smacc_py.ros.context import ros_context
 
 KEYBOARD_TOPIC = "/keyboard_unicode"
@@ -28,12 +28,15 @@ def key_of(code: int) -> str | None:
 
 
 class ClKeyboard(ISmaccClient):
-    """Subscribes the keyboard topic and hands each key to the active keyboard behaviors."""
+    """Subscribes the keyboard topic and hands each key to the active keyboard behaviors.
+
+    It posts no event itself (a SmaccSubscriberClient would post EvTopicMessage per key): the behaviors
+    connected to ``key_pressed`` turn letters into EvKeyPress events of their own.
+    """
 
     def __init__(self, topic: str = KEYBOARD_TOPIC) -> None:
         self.topic = topic
-        self._lock = threading.Lock()
-        self._listeners: list[Callable[[str], None]] = []
+        self.key_pressed: SmaccSignal[str] = SmaccSignal("ClKeyboard.key_pressed")
 
     def on_initialize(self) -> None:
         ctx = ros_context(self.sm)
@@ -41,23 +44,16 @@ class ClKeyboard(ISmaccClient):
 
     def _on_key(self, msg: UInt16) -> None:
         key = key_of(msg.data)
-        if key is None:
-            return
-        with self._lock:
-            listeners = list(self._listeners)
-        for listener in listeners:
-            listener(key)
+        if key is not None:
+            self.key_pressed.emit(key)
 
-    def add_listener(self, listener: Callable[[str], None]) -> None:
-        """Call ``listener(letter)`` for each key press."""
-        with self._lock:
-            self._listeners.append(listener)
+    def add_listener(self, listener: Callable[[str], None]) -> Callable[[], None]:
+        """Call ``listener(letter)`` for each key press; returns the function that disconnects it."""
+        return self.key_pressed.connect(listener)
 
     def remove_listener(self, listener: Callable[[str], None]) -> None:
         """Stop calling ``listener``."""
-        with self._lock:
-            if listener in self._listeners:
-                self._listeners.remove(listener)
+        self.key_pressed.disconnect(listener)
 
 
 class CbDefaultKeyboardBehavior(SmaccClientBehavior):

@@ -1,14 +1,14 @@
 """Waiting behaviors: CbWaitNav2Nodes (bond heartbeats), CbWaitPose and CbWaitTransform (TF),
 CbSetInitialPose (AMCL).
 
-Each one polls on the machine clock (ISmaccUpdatable) for its timeout, so timeouts follow sim time,
-and posts exactly one EvCbSuccess or EvCbFailure (payload ``reason`` on failure).
+Each one is a CbOutcomeBase: it polls on the machine clock (ISmaccUpdatable) for its timeout, so
+timeouts follow sim time, and posts exactly one EvCbSuccess or EvCbFailure (payload ``reason`` on
+failure).
 """
 
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Sequence
 
 from ros_tools.tf import Transform, TransformError
@@ -16,51 +16,17 @@ from smacc_py.clients.cl_nav2z.client import ClNav2Z
 from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
 from smacc_py.clients.cl_nav2z.cp_pose import CpPose
 from smacc_py.clients.cl_nav2z.geometry import normalize_angle
-from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior
+from smacc_py.ros.client_behaviors.cb_outcome_base import CbOutcomeBase
 from smacc_py.ros.components.checks import check_duration
 
 
-class _OneShot(SmaccClientBehavior, ISmaccUpdatable):
-    """Posts at most one outcome; ``timeout_s`` (machine clock, None: never) → failure."""
+class _Nav2Wait(CbOutcomeBase):
+    """CbOutcomeBase with the strict timeout these waits always had (see ``strict_timeout``)."""
 
-    timeout_s: float | None = None
-
-    def on_entry(self) -> None:
-        self._lock = threading.Lock()
-        self._finished = False
-        self._start_s = self.sm.now()
-        self.start()
-
-    def start(self) -> None:
-        """Subclass hook run by ``on_entry``."""
-
-    def finish(self, success: bool, **payload: object) -> None:
-        """Post the outcome once."""
-        with self._lock:
-            if self._finished:
-                return
-            self._finished = True
-        if success:
-            self.post_success_event(**payload)
-        else:
-            self.post_failure_event(**payload)
-
-    def update(self) -> None:
-        if self._finished:
-            return
-        self.poll()
-        if self.timeout_s is not None and self.sm.now() - self._start_s > self.timeout_s:
-            self.finish(False, reason=self.timeout_reason())
-
-    def poll(self) -> None:
-        """Subclass hook run on every update before the timeout check."""
-
-    def timeout_reason(self) -> str:
-        """Why the wait failed."""
-        return f"{type(self).__name__} timed out after {self.timeout_s} s"
+    strict_timeout = True
 
 
-class CbWaitNav2Nodes(_OneShot):
+class CbWaitNav2Nodes(_Nav2Wait):
     """Success once each node in ``nodes`` heartbeated an active bond on ``topic``; failure after
     ``timeout_s`` (SMACC2's version never fails). Node ids are Nav2's bond ids (the node names). The
     subscription belongs to ClNav2Z (``subscribe_bonds``), which must be on the behavior's orthogonal."""
@@ -88,11 +54,11 @@ class CbWaitNav2Nodes(_OneShot):
         missing = ", ".join(n for n in self.nodes if n not in self.seen)
         return f"no active bond from {missing} within {self.timeout_s} s"
 
-    def on_exit(self) -> None:
+    def stop(self) -> None:
         self._unsubscribe()
 
 
-class CbWaitPose(_OneShot):
+class CbWaitPose(_Nav2Wait):
     """Success once CpPose finds the robot pose; failure after ``timeout_s``."""
 
     def __init__(self, timeout_s: float | None = 10.0) -> None:
@@ -110,7 +76,7 @@ class CbWaitPose(_OneShot):
         return f"no robot pose within {self.timeout_s} s: {self._cp_pose.last_error}"
 
 
-class CbWaitTransform(_OneShot):
+class CbWaitTransform(_Nav2Wait):
     """Success once TF has a transform between ``target_frame`` and ``reference_frame``; failure after
     ``timeout_s`` s of machine clock (the node clock: sim time under ``use_sim_time``).
 
@@ -145,7 +111,7 @@ class CbWaitTransform(_OneShot):
                 f"{self.timeout_s} s: {self.last_error}")
 
 
-class CbSetInitialPose(_OneShot):
+class CbSetInitialPose(_Nav2Wait):
     """Publish AMCL's initial pose (x, y in m, yaw in rad, map frame) through CpAmcl, republishing every
     ``republish_period_s`` (machine clock), until AMCL's next estimate lies within ``xy_tolerance`` m
     and ``yaw_tolerance`` rad of it (success, payload ``amcl_pose``); failure after ``timeout_s``.
@@ -197,5 +163,5 @@ class CbSetInitialPose(_OneShot):
             f"(last /amcl_pose: {self.last_amcl})"
         )
 
-    def on_exit(self) -> None:
+    def stop(self) -> None:
         self._unlisten()

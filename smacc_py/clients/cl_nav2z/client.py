@@ -2,7 +2,8 @@
 
 Like SMACC2's cl_nav2z, it owns the ``navigate_to_pose`` action client and posts
 ``EvActionSucceeded/Aborted/Cancelled/Result/Feedback[ClNav2Z, Or]`` (ABSOLUTE lifetime) with the
-result or feedback as payload (``result``, ``error_code``, ``error_msg``, ``action``). Because SMACC2's
+result or feedback as payload (``result``, ``error_code``, ``error_msg``, ``action``), posted by the same
+code as the generic ``CpActionClient`` (``event_posting_callbacks``). Because SMACC2's
 custom Nav2 planner plugins (forward, backward, pure spinning, undo path) do not exist in a standard
 Nav2, this client also holds clients for the Nav2 behavior-server actions that do the same motions:
 ``spin``, ``backup``, ``drive_on_heading``, plus ``follow_path`` on the controller server.
@@ -31,15 +32,9 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.requests import call_service
 from ros_tools.tf import Transform
-from smacc_py.core import (
-    EvActionAborted,
-    EvActionCancelled,
-    EvActionFeedback,
-    EvActionResult,
-    EvActionSucceeded,
-    ISmaccClient,
-)
-from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
+from smacc_py.core import ISmaccClient
+from smacc_py.ros.action_client import GoalTicket, RosActionClient
+from smacc_py.ros.components.cp_action_client import event_posting_callbacks
 from smacc_py.ros.context import ros_context
 
 NAVIGATE_TO_POSE = "navigate_to_pose"
@@ -60,13 +55,6 @@ ACTION_TYPES: dict[str, Any] = {
 #: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
 BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
 BOND_DISCOVERY_GRACE_S = 3.0  # wall s lockstep waits for /bond to be matched (under sim2d's 5 s timeout)
-
-_OUTCOME_EVENTS = {
-    GoalOutcome.SUCCEEDED: EvActionSucceeded,
-    GoalOutcome.ABORTED: EvActionAborted,
-    GoalOutcome.REJECTED: EvActionAborted,
-    GoalOutcome.CANCELED: EvActionCancelled,
-}
 
 
 class ClNav2Z(ISmaccClient):
@@ -118,28 +106,9 @@ class ClNav2Z(ISmaccClient):
         on_done: Callable[[GoalTicket], None] | None = None,
         on_feedback: Callable[[GoalTicket, Any], None] | None = None,
     ) -> GoalTicket:
-        """Send a goal to action ``key``; the client posts its EvAction* events, then ``on_done`` runs."""
-
-        def done(ticket: GoalTicket) -> None:
-            if not ticket.abandoned:
-                payload = {
-                    "action": key,
-                    "result": ticket.result,
-                    "error_code": ticket.error_code,
-                    "error_msg": ticket.error_msg or _default_message(ticket),
-                }
-                self.post_event(self.own_event(EvActionResult)(outcome=ticket.outcome, **payload))
-                assert ticket.outcome is not None
-                self.post_event(self.own_event(_OUTCOME_EVENTS[ticket.outcome])(**payload))
-            if on_done is not None:
-                on_done(ticket)
-
-        def feedback(ticket: GoalTicket, message: Any) -> None:
-            if not ticket.abandoned:
-                self.post_event(self.own_event(EvActionFeedback)(action=key, feedback=message))
-            if on_feedback is not None:
-                on_feedback(ticket, message)
-
+        """Send a goal to action ``key``; the client posts its EvAction* events (payload ``action``: the key,
+        even when ``action_names`` remaps the server), then ``on_done`` runs."""
+        done, feedback = event_posting_callbacks(self, key, on_done, on_feedback)
         return self.action_client(key).send_goal(goal, done, feedback)
 
     def send_navigation_goal(
@@ -195,9 +164,3 @@ class ClNav2Z(ISmaccClient):
                                                CANCEL_TIMEOUT_S))
         answer.add_done_callback(lambda done: on_answer(
             None if done.result() is None else len(done.result().goals_canceling)))
-
-
-def _default_message(ticket: GoalTicket) -> str:
-    if ticket.outcome is GoalOutcome.REJECTED:
-        return f"{ticket.action_name} goal rejected"
-    return ""

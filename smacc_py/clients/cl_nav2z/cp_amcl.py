@@ -8,7 +8,6 @@ component is the one ROS endpoint a test substitutes.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -17,6 +16,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
 from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
 from smacc_py.core import ISmaccComponent
+from smacc_py.ros.components.signal import SmaccSignal
 from smacc_py.ros.context import ros_context
 
 # Covariance of sm_nav2_gazebo_test_1's initial pose: σ² x = y = 0.25 m², yaw = 0.06 rad².
@@ -35,6 +35,7 @@ class CpAmcl(ISmaccComponent):
     Attributes:
         published: every initial pose sent, (x, y, yaw).
         last_estimate: AMCL's latest estimate (x, y, yaw), None before the first.
+        estimate_received: the signal ``listen`` connects to, emitted with every estimate.
     """
 
     def __init__(self, topic: str = "initialpose", frame_id: str = "map",
@@ -42,8 +43,7 @@ class CpAmcl(ISmaccComponent):
         self.topic, self.frame_id, self.amcl_pose_topic = topic, frame_id, amcl_pose_topic
         self.published: list[Pose2D] = []
         self.last_estimate: Pose2D | None = None
-        self._listeners: list[PoseListener] = []
-        self._listeners_lock = threading.Lock()  # estimates arrive on the executor's thread
+        self.estimate_received: SmaccSignal[Pose2D] = SmaccSignal("CpAmcl.estimate_received")
 
     def on_initialize(self) -> None:
         node = ros_context(self.sm).node
@@ -67,22 +67,12 @@ class CpAmcl(ISmaccComponent):
 
     def listen(self, listener: PoseListener) -> Callable[[], None]:
         """Call ``listener(x, y, yaw)`` with every estimate from now on; returns the unsubscribe call."""
-        with self._listeners_lock:
-            self._listeners.append(listener)
-
-        def unsubscribe() -> None:
-            with self._listeners_lock:
-                if listener in self._listeners:
-                    self._listeners.remove(listener)
-        return unsubscribe
+        return self.estimate_received.connect(listener)
 
     def on_estimate(self, estimate: Pose2D) -> None:
         """Take one AMCL estimate: remember it and pass it to the listeners."""
         self.last_estimate = estimate
-        with self._listeners_lock:
-            listeners = list(self._listeners)
-        for listener in listeners:
-            listener(estimate)
+        self.estimate_received.emit(estimate)
 
     def _on_amcl_pose(self, msg: PoseWithCovarianceStamped) -> None:
         p, q = msg.pose.pose.position, msg.pose.pose.orientation

@@ -29,6 +29,10 @@ class CbOutcomeBase(SmaccClientBehavior, ISmaccUpdatable):
     """
 
     timeout_s: float | None = None
+    #: False: fail at the first poll at or after ``timeout_s``; True: only once more than ``timeout_s``
+    #: has passed. cl_nav2z's and cl_battery's waits predate this base and keep their strict rule, so a
+    #: machine's timing does not change when a poll lands exactly on the deadline.
+    strict_timeout: bool = False
     succeeded: bool | None = None
     started_s: float = 0.0
 
@@ -76,8 +80,10 @@ class CbOutcomeBase(SmaccClientBehavior, ISmaccUpdatable):
         if self.finished:
             return
         self.poll()
-        if (not self.finished and self.timeout_s is not None
-                and self.sm.now() - self.started_s >= self.timeout_s):
+        if self.finished or self.timeout_s is None:
+            return
+        elapsed_s = self.sm.now() - self.started_s
+        if elapsed_s > self.timeout_s or (elapsed_s == self.timeout_s and not self.strict_timeout):
             self.finish(False, reason=self.timeout_reason())
 
     def on_exit(self) -> None:

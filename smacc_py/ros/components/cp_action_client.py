@@ -2,7 +2,7 @@
 
 It wraps ``smacc_py.ros.action_client.RosActionClient`` (goals never block; each goal is a
 ``GoalTicket``) and posts the outcome of every goal nobody abandoned, parameterised by the owning
-client and its orthogonal, as ClNav2Z does:
+client and its orthogonal (the same events as ClNav2Z, from the same code: ``event_posting_callbacks``):
 
 * ``EvActionFeedback[Client, Or](feedback=..., action=...)`` for each feedback message;
 * ``EvActionResult[Client, Or](outcome=..., result=..., ...)`` when the goal ends, whatever its status;
@@ -24,6 +24,7 @@ from smacc_py.core import (
     EvActionFeedback,
     EvActionResult,
     EvActionSucceeded,
+    ISmaccClient,
     ISmaccComponent,
     SmaccError,
     SmaccEvent,
@@ -75,28 +76,8 @@ class CpActionClient(ISmaccComponent):
         """Send ``goal`` (an ``action_type.Goal``) at once; events, then ``on_done(ticket)`` /
         ``on_feedback(ticket, feedback)``, run on the executor thread. TypeError for another goal type."""
         check_instance(self.label, "the goal", goal, self.action_type.Goal)
-
-        def done(ticket: GoalTicket) -> None:
-            if not ticket.abandoned:
-                self._post_outcome(ticket)
-            if on_done is not None:
-                on_done(ticket)
-
-        def feedback(ticket: GoalTicket, message: Any) -> None:
-            if not ticket.abandoned:
-                self.post_event(self.owner.own_event(EvActionFeedback)(action=self.action_name,
-                                                                       feedback=message))
-            if on_feedback is not None:
-                on_feedback(ticket, message)
-
+        done, feedback = event_posting_callbacks(self.owner, self.action_name, on_done, on_feedback)
         return self.ros_client.send_goal(goal, done, feedback)
-
-    def _post_outcome(self, ticket: GoalTicket) -> None:
-        assert ticket.outcome is not None  # on_done runs after GoalTicket.finish
-        payload = {"action": self.action_name, "result": ticket.result, "error_code": ticket.error_code,
-                   "error_msg": ticket.error_msg or describe_unexplained(ticket)}
-        self.post_event(self.owner.own_event(EvActionResult)(outcome=ticket.outcome, **payload))
-        self.post_event(self.owner.own_event(OUTCOME_EVENTS[ticket.outcome])(**payload))
 
     def cancel_goals(self) -> None:
         """Ask the server to cancel every goal this component sent that has not ended (SMACC2 cancelGoal);
@@ -107,6 +88,37 @@ class CpActionClient(ISmaccComponent):
     def active_goals(self) -> list[GoalTicket]:
         """Goals sent and not yet ended."""
         return [] if self._client is None else self._client.active_tickets()
+
+
+def event_posting_callbacks(
+    client: ISmaccClient, action: str, on_done: DoneCallback | None = None,
+    on_feedback: FeedbackCallback | None = None,
+) -> tuple[DoneCallback, FeedbackCallback]:
+    """The done and feedback callbacks to give ``RosActionClient.send_goal`` so that ``client`` posts its
+    EvAction* events about the goal (payload ``action``) before ``on_done`` / ``on_feedback`` run.
+
+    Why a function and not only the component: a client with several action endpoints under keys of its
+    own (ClNav2Z, whose payloads name the key even when the server name is remapped, and whose test
+    stand-ins replace the endpoints themselves) posts exactly the same events, from this one place.
+    """
+
+    def done(ticket: GoalTicket) -> None:
+        if not ticket.abandoned:
+            assert ticket.outcome is not None  # on_done runs after GoalTicket.finish
+            payload = {"action": action, "result": ticket.result, "error_code": ticket.error_code,
+                       "error_msg": ticket.error_msg or describe_unexplained(ticket)}
+            client.post_event(client.own_event(EvActionResult)(outcome=ticket.outcome, **payload))
+            client.post_event(client.own_event(OUTCOME_EVENTS[ticket.outcome])(**payload))
+        if on_done is not None:
+            on_done(ticket)
+
+    def feedback(ticket: GoalTicket, message: Any) -> None:
+        if not ticket.abandoned:
+            client.post_event(client.own_event(EvActionFeedback)(action=action, feedback=message))
+        if on_feedback is not None:
+            on_feedback(ticket, message)
+
+    return done, feedback
 
 
 def describe_unexplained(ticket: GoalTicket) -> str:

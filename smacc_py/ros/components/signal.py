@@ -31,13 +31,13 @@ class SmaccSignal(Generic[T]):
         """Call ``listener(value)`` on every emit from now on; returns the function that disconnects it."""
         with self._lock:
             self._listeners.append(listener)
+        return lambda: self.disconnect(listener)
 
-        def disconnect() -> None:
-            with self._lock:
-                if listener in self._listeners:
-                    self._listeners.remove(listener)
-
-        return disconnect
+    def disconnect(self, listener: Callable[[T], None]) -> None:
+        """Stop calling ``listener`` (an equal bound method will do); nothing if it is not connected."""
+        with self._lock:
+            if listener in self._listeners:
+                self._listeners.remove(listener)
 
     def emit(self, value: T) -> None:
         """Call every listener; one that raises is logged and the others still run."""

@@ -9,6 +9,7 @@ from typing import Any
 
 import pytest
 import yaml
+from nav2_msgs.action import Spin
 
 from smacc_py.clients.cl_nav2z import (
     CbNavigateGlobalPosition,
@@ -26,6 +27,8 @@ from smacc_py.core import (
     CANCEL,
     SUCCESS,
     EvActionCancelled,
+    EvActionResult,
+    EvActionSucceeded,
     EvCbFailure,
     EvCbSuccess,
     EvTimer,
@@ -36,6 +39,7 @@ from smacc_py.core import (
 )
 from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1, SmNav2Test1Params
 from tests.helpers.smacc_fake_nav import Nav2Script, RecordingPublisher, ScriptedNav2
+from tests.helpers.smacc_stand_ins import ScriptedClNav2Z
 
 WAIT_POSE_TIMEOUT_S = 5.0
 NAV2_PARAMS = Path(__file__).resolve().parents[3] / "config" / "nav2_params.yaml"
@@ -121,6 +125,31 @@ class StGoalCancelled(SmaccState, parent=SmStop):
     pass
 
 
+# ------------------------------------------------------------------ remapped action names
+class OrRemapped(Orthogonal):
+    def on_initialize(self) -> None:
+        self.create_client(ClNav2Z, action_names={"spin": "my_spin"})
+
+
+class SmRemapped(SmaccStateMachineBase):
+    initial_state = "StIdle"
+
+    def on_initialize(self) -> None:
+        self.create_orthogonal(OrRemapped)
+
+
+class StIdle(SmaccState, parent=SmRemapped):
+    reactions = [Transition(EvActionResult[ClNav2Z, OrRemapped], "StResult", SUCCESS)]
+
+
+class StResult(SmaccState, parent=SmRemapped):
+    reactions = [Transition(EvActionSucceeded[ClNav2Z, OrRemapped], "StSpun", SUCCESS)]
+
+
+class StSpun(SmaccState, parent=SmRemapped):
+    pass
+
+
 @pytest.fixture
 def world() -> Iterator[Callable[..., ScriptedNav2]]:
     made: list[ScriptedNav2] = []
@@ -199,3 +228,19 @@ def test_set_preset_refuses_smacc2_only_presets_naming_the_plugin(world: Callabl
         switcher.set_preset("sideways")
     assert [m.data for m in sent.messages] == ["GridBased"]  # nothing published by the refusals
     assert (switcher.desired_planner, switcher.desired_controller) == PRESETS["default"]
+
+
+def test_action_payloads_name_the_key_even_when_the_server_name_is_remapped(
+    world: Callable[..., ScriptedNav2],
+) -> None:
+    nav2 = world()
+    sm = nav2.start(SmRemapped)
+    client = sm.requires_client(ClNav2Z)
+    assert isinstance(client, ScriptedClNav2Z)
+    client.send_goal("spin", Spin.Goal())
+    assert nav2.drive(sm, lambda: _leaf(sm) == "StSpun", max_sim_s=5.0)
+    assert client.action_log("spin").action_name == "my_spin"
+    result, succeeded = (record.event for record in list(sm.transition_log)[-2:])
+    assert type(result) is EvActionResult[ClNav2Z, OrRemapped]
+    for event in (result, succeeded):
+        assert (event.action, event.error_code, event.error_msg) == ("spin", 0, "")
