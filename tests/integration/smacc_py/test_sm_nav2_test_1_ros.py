@@ -82,8 +82,14 @@ def test_timer_fallback_then_retries_then_abort_on_sim_time(stack) -> None:  # t
     ]
     log = list(runtime.sm.transition_log)
     assert log[0].stamp_s - 1000.0 >= 15.0  # the timer ran on /clock, which starts at 1000 s
+    # Each attempt lasts its 15 s of sim time, never less. The fake /clock runs 100x the wall clock
+    # and does not wait for the machine, so a machine delayed by load notices the timeout late: a
+    # 50 ms stall is 5 s of sim time. The upper bound only has to tell sim time from wall time, where
+    # one attempt would span 1500 s of /clock.
     retries = itertools.pairwise(log[1:-1])
-    assert all(14.9 <= later.stamp_s - earlier.stamp_s <= 16.5 for earlier, later in retries)
-    assert len(fake.initial_poses) >= 4 * 15  # one per second of each attempt
+    assert all(14.9 <= later.stamp_s - earlier.stamp_s <= 60.0 for earlier, later in retries)
+    # republished during each attempt (one per second of sim time when the machine keeps up with the
+    # fake clock; fewer when load makes /clock jump by seconds between two of its polls)
+    assert len(fake.initial_poses) >= 5 * 2
     assert all(pose == pytest.approx((-2.0, -0.5, 0.0)) for pose in fake.initial_poses)
     assert math.isclose(runtime.sm.get_global_sm_data("localization_attempt_count"), 5)
