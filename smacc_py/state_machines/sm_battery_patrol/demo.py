@@ -25,24 +25,17 @@ from pathlib import Path
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
-from smacc_py.state_machines.sm_nav2_test_1.demo import (
-    READY_PATTERN,
-    add_console_arguments,
-    bringup_command,
-    console_arguments,
-    parse_rtf,
-)
+from smacc_py.state_machines import stack_run
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
 #: sim2d's battery drained as in the seed (2 % per metre): a real waffle's would last two hours.
 SIM_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sim2d_battery_patrol.yaml"
-EXIT_SUCCESS, EXIT_TIMEOUT, EXIT_STACK, EXIT_INTERRUPTED = 0, 2, 3, 130
 CYCLES_KEY, VISITS_KEY, RECHARGES_KEY = "patrol_cycles", "visits", "recharges"
 
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="sm-battery-patrol", description=__doc__.splitlines()[0])
-    parser.add_argument("--rtf", type=parse_rtf, default="max",
+    parser.add_argument("--rtf", type=stack_run.parse_rtf, default="max",
                         help="upper bound on the real-time factor (default max; the simulator runs in "
                              "lockstep with the stack)")
     parser.add_argument("--cycles", type=int, default=2, help="patrol rounds (location1..4) to complete")
@@ -62,7 +55,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
     parser.add_argument("--bringup-arg", action="append", default=[],
                         help="extra argument for the stack command (repeatable)")
-    add_console_arguments(parser)
+    stack_run.add_console_arguments(parser)
     options = parser.parse_args(argv)
     if options.cycles < 1:
         parser.error(f"--cycles must be >= 1, got {options.cycles}")
@@ -84,104 +77,48 @@ class PatrolObserver(SmaccObserver):
             self.finished.set()
 
 
-def run_patrol(options: argparse.Namespace, launcher: object, say: Callable[[str], None],
-               interrupted: threading.Event) -> int:
+def run_patrol(options: argparse.Namespace, session: stack_run.StackSession) -> int:
     """Run the machine until the cycles are done, a timeout, Ctrl-C or the stack's death."""
-    import rclpy
-    from rclpy.context import Context
-    from rclpy.parameter import Parameter
-
-    from smacc_py.ros.runtime import SmaccRuntime
     from smacc_py.state_machines.sm_battery_patrol import SmBatteryPatrol
 
-    args = ["--ros-args", "--params-file", str(options.params_file)] if options.params_file else []
-    context = Context()
-    rclpy.init(args=args, context=context)
-    overrides = [Parameter("use_sim_time", value=True)]
-    for name in ("low_threshold", "charged_threshold"):
-        if getattr(options, name) is not None:
-            overrides.append(Parameter(name, value=float(getattr(options, name))))
-    runtime = None
+    say = session.out.say
+    thresholds = {name: float(getattr(options, name)) for name in ("low_threshold", "charged_threshold")
+                  if getattr(options, name) is not None}
     wall_start = time.monotonic()
-    try:
-        runtime = SmaccRuntime(SmBatteryPatrol, context=context, parameter_overrides=overrides)
+    with stack_run.machine_runtime(SmBatteryPatrol, options.params_file, thresholds) as runtime:
         observer = PatrolObserver(say, options.cycles)
         runtime.sm.add_observer(observer)
         runtime.spin_in_background()
         runtime.start()
-        deadline = wall_start + options.timeout
-        timed_out = threading.Event()
-
-        def until() -> bool:
-            if time.monotonic() > deadline:
-                timed_out.set()
-            return observer.finished.is_set() or interrupted.is_set() or timed_out.is_set()
-
-        stack_code = launcher.wait(until)  # type: ignore[attr-defined]
+        end = stack_run.wait_for_end(session, observer.finished.is_set, wall_start + options.timeout)
         sm = runtime.sm
-        sim_s = sm.now() - (runtime.started_at_s or sm.now())
         visits = sm.get_global_sm_data(VISITS_KEY, [])
         say(f"[patrol] visited: {' -> '.join(visits)}")
         say(f"[patrol] rounds {sm.get_global_sm_data(CYCLES_KEY, 0)}, recharges "
-            f"{len(sm.get_global_sm_data(RECHARGES_KEY, []))}, sim {sim_s:.1f} s, "
+            f"{len(sm.get_global_sm_data(RECHARGES_KEY, []))}, sim {stack_run.mission_sim_s(runtime):.1f} s, "
             f"wall {time.monotonic() - wall_start:.1f} s")
-        if observer.finished.is_set():
+        if end.finished:
             say("[patrol] result: SUCCESS")
-            return EXIT_SUCCESS
-        if interrupted.is_set():
-            return EXIT_INTERRUPTED
-        if timed_out.is_set():
+            return stack_run.EXIT_SUCCESS
+        if end.interrupted:
+            return stack_run.EXIT_INTERRUPTED
+        if end.timed_out:
             say(f"[patrol] result: TIMEOUT in {sm.current_state_names()}")
-            return EXIT_TIMEOUT
-        say(f"[patrol] result: the stack stopped (exit code {stack_code})")
-        return EXIT_STACK
-    finally:
-        if runtime is not None:
-            runtime.shutdown()
-        if context.ok():
-            rclpy.shutdown(context=context)
+            return stack_run.EXIT_TIMEOUT
+        say(f"[patrol] result: the stack stopped (exit code {end.stack_code})")
+        return stack_run.EXIT_STACK
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    import signal
-
     from ros_tools.console import StackConsole
-    from ros_tools.launch import Launcher, LaunchError, ProcessSpec, default_log_dir
 
     options = parse_args(argv)
-    out = StackConsole(options.verbose, "patrol")
-    log_dir = options.log_dir or default_log_dir()
-    launcher = Launcher(output=out.stack, log_dir=log_dir)
-    interrupted = threading.Event()
-
-    def on_signal(signum: int, frame: object) -> None:
-        interrupted.set()
-        launcher.stop()
-
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     use_sim_params = options.sim_params is not None and not options.bringup
     sim_params = ["--sim-params", str(options.sim_params)] if use_sim_params else []
-    command = [*bringup_command(options.rtf, options.bringup, "SmBatteryPatrol", options.robot,
-                                console_arguments(options, log_dir)),
-               *sim_params, *options.bringup_arg]
-    try:
-        out.say(f"[patrol] starting the stack: {' '.join(command)}")
-        try:
-            spec = ProcessSpec("nav", command, ready=READY_PATTERN, ready_timeout=options.ready_timeout)
-            launcher.start([spec])
-        except LaunchError as error:
-            out.show_kept()
-            out.say(f"[patrol] FAILED: the stack did not come up: {error} (logs: {log_dir}/)")
-            return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
-        out.say(f"[patrol] the stack is ready; its logs: {log_dir}/<process>.log")
-        code = run_patrol(options, launcher, out.say, interrupted)
-        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
-            out.show_problems(log_dir)
-        return code
-    finally:
-        launcher.shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+    return stack_run.run_against_stack(options, StackConsole(options.verbose, "patrol"), "SmBatteryPatrol",
+                                       lambda session: run_patrol(options, session),
+                                       extra_args=[*sim_params, *options.bringup_arg],
+                                       ready_note="the stack is ready; its logs: {log_dir}/<process>.log")
 
 
 if __name__ == "__main__":

@@ -10,7 +10,8 @@ updatable publisher.
 
 Modules: ``clients`` (the machine's own clients and behaviors), ``orthogonals``, ``modestates`` (mode
 states, EvGlobalError, loop counting), ``st_navigation`` and ``st_motions`` (top-level states),
-``ss_radial``, ``ss_f_pattern``, ``ss_s_pattern`` (superstates and their inner states), ``waypoints``
+``ss_radial``, ``ss_f_pattern``, ``ss_s_pattern`` (superstates and their inner states, declared with
+``loop_pattern``, the loop skeleton they share), ``waypoints``
 (the geometry, and every change from upstream's with its reason), ``support_nodes`` (the LED, service3
 and temperature nodes of upstream's launch file) and ``demo`` (the whole run).
 

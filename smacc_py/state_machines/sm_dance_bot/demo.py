@@ -18,30 +18,14 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
-import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
-from smacc_py.state_machines.sm_nav2_test_1.demo import (
-    READY_PATTERN,
-    add_console_arguments,
-    bringup_command,
-    console_arguments,
-    parse_rtf,
-)
-from smacc_py.state_machines.sm_nav2_test_1.mission import (
-    EXIT_ABORT,
-    EXIT_INTERRUPTED,
-    EXIT_STACK,
-    EXIT_SUCCESS,
-    EXIT_TIMEOUT,
-    MissionObserver,
-    summary,
-)
+from smacc_py.state_machines import stack_run
+from smacc_py.state_machines.sm_nav2_test_1.mission import MissionObserver, summary
 
 MACHINE = "SmDanceBot"
 INITIAL_LEAF = "StAcquireSensors"
@@ -50,7 +34,7 @@ RECOVERY = "MsDanceBotRecoveryMode"
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="sm_dance_bot.demo", description=__doc__.splitlines()[0])
-    parser.add_argument("--rtf", type=parse_rtf, default="max",
+    parser.add_argument("--rtf", type=stack_run.parse_rtf, default="max",
                         help="upper bound on the real-time factor (default max; lockstep with the stack)")
     parser.add_argument("--timeout", type=float, default=600.0, help="wall-clock limit (s) for the dance")
     parser.add_argument("--heat-start", type=float, default=60.0,
@@ -60,7 +44,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--ready-timeout", type=float, default=180.0,
                         help="wall s to wait for 'Nav2 is ready'")
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
-    add_console_arguments(parser)
+    stack_run.add_console_arguments(parser)
     return parser.parse_args(argv)
 
 
@@ -83,101 +67,45 @@ def dance_report(sm: object, observer: MissionObserver) -> list[str]:
     return [f"[demo] loops: {counts}", f"[demo] recovery mode: entered {entered}, left {left}"]
 
 
-def run_dance(options: argparse.Namespace, launcher: object, say: Callable[[str], None],
-              interrupted: threading.Event, wall_start: float) -> int:
+def run_dance(options: argparse.Namespace, session: stack_run.StackSession) -> int:
     """Run SmDanceBot until StFinalState, a timeout, Ctrl-C or the stack's death; the exit code."""
-    import rclpy
-    from rclpy.context import Context
-    from rclpy.parameter import Parameter
-
-    from smacc_py.ros.runtime import SmaccRuntime
     from smacc_py.state_machines.sm_dance_bot import SmDanceBot
 
-    context = Context()
-    rclpy.init(args=[], context=context)
-    runtime = None
-    try:
-        runtime = SmaccRuntime(SmDanceBot, context=context,
-                               parameter_overrides=[Parameter("use_sim_time", value=True)])
+    say = session.out.say
+    with stack_run.machine_runtime(SmDanceBot) as runtime:
         observer = MissionObserver(say)
         runtime.sm.add_observer(observer)
         runtime.spin_in_background()
         runtime.start()
         mission_start = time.monotonic()
-        deadline = mission_start + options.timeout
-        timed_out = threading.Event()
-
-        def until() -> bool:
-            if time.monotonic() > deadline:
-                timed_out.set()
-            return observer.finished.is_set() or interrupted.is_set() or timed_out.is_set()
-
-        stack_code = launcher.wait(until)  # type: ignore[attr-defined]
+        end = stack_run.wait_for_end(session, observer.finished.is_set, mission_start + options.timeout)
         sm = runtime.sm
-        started = runtime.started_at_s
-        sim_s = sm.now() - started if started is not None else 0.0
         records = list(observer.records)
-        if observer.finished.is_set():
-            ok = records[-1].tag.family() == "SUCCESS"
-            code, result = (EXIT_SUCCESS, "SUCCESS: the dance is over") if ok else (EXIT_ABORT, "ABORT")
-        elif interrupted.is_set():
-            code, result = EXIT_INTERRUPTED, "interrupted"
-        elif timed_out.is_set():
-            where = sm.current_state_names()
-            code, result = EXIT_TIMEOUT, f"TIMEOUT after {options.timeout:.0f} s wall in {where}"
-        else:
-            code, result = EXIT_STACK, f"the stack stopped (exit code {stack_code}) before the dance ended"
-        for line in dance_report(sm, observer):
-            say(line)
-        for line in summary(records, INITIAL_LEAF, sim_s, time.monotonic() - wall_start, result,
-                            time.monotonic() - mission_start):
+
+        def finished() -> tuple[int, str]:
+            if records[-1].tag.family() == "SUCCESS":
+                return stack_run.EXIT_SUCCESS, "SUCCESS: the dance is over"
+            return stack_run.EXIT_ABORT, "ABORT"
+
+        code, result = end.verdict(finished, options.timeout, sm.current_state_names(), "dance")
+        now, sim_s = time.monotonic(), stack_run.mission_sim_s(runtime)
+        lines = summary(records, INITIAL_LEAF, sim_s, now - session.wall_start, result, now - mission_start)
+        for line in [*dance_report(sm, observer), *lines]:
             say(line)
         return code
-    finally:
-        if runtime is not None:
-            runtime.shutdown()
-        if context.ok():
-            rclpy.shutdown(context=context)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     from ros_tools.console import StackConsole
-    from ros_tools.launch import Launcher, LaunchError, ProcessSpec, default_log_dir
+    from ros_tools.launch import ProcessSpec
     from smacc_py.state_machines.sm_dance_bot.support_nodes import READY_LINE
 
     options = parse_args(argv)
-    out = StackConsole(options.verbose, "demo")
-    log_dir = options.log_dir or default_log_dir()
-    launcher = Launcher(output=out.stack, log_dir=log_dir)
-    interrupted = threading.Event()
-
-    def on_signal(signum: int, frame: object) -> None:
-        interrupted.set()
-        launcher.stop()
-
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
-    wall_start = time.monotonic()
-    command = bringup_command(options.rtf, options.bringup, MACHINE, None,
-                              console_arguments(options, log_dir))
-    try:
-        out.say(f"[demo] starting the stack: {' '.join(command)}")
-        try:
-            launcher.start([ProcessSpec("nav", command, ready=READY_PATTERN,
-                                        ready_timeout=options.ready_timeout)])
-            launcher.start([ProcessSpec("dance_support", support_command(options), ready=READY_LINE)])
-        except LaunchError as error:
-            out.show_kept()
-            out.say(f"[demo] FAILED: the stack did not come up: {error} (logs: {log_dir}/)")
-            return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
-        out.say(f"[demo] the stack is ready ({time.monotonic() - wall_start:.1f} s); its logs: {log_dir}/")
-        code = run_dance(options, launcher, out.say, interrupted, wall_start)
-        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
-            out.show_problems(log_dir)
-        return code
-    finally:
-        launcher.shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+    support = ProcessSpec("dance_support", support_command(options), ready=READY_LINE)
+    ready_note = "the stack is ready ({elapsed:.1f} s); its logs: {log_dir}/"
+    return stack_run.run_against_stack(options, StackConsole(options.verbose, "demo"), MACHINE,
+                                       lambda session: run_dance(options, session), companions=[support],
+                                       ready_note=ready_note)
 
 
 if __name__ == "__main__":

@@ -18,32 +18,11 @@ from __future__ import annotations
 import enum
 from typing import ClassVar
 
-from smacc_py.clients.cl_nav2z import CbAbsoluteRotate, CbNavigateForward, CbUndoPathBackwards
-from smacc_py.core import (
-    ABORT,
-    CONTINUELOOP,
-    ENDLOOP,
-    EvLoopContinue,
-    EvLoopEnd,
-    SmaccState,
-    Transition,
-)
+from smacc_py.clients.cl_nav2z import CbAbsoluteRotate, CbUndoPathBackwards
 from smacc_py.state_machines.sm_dance_bot import waypoints as wp
 from smacc_py.state_machines.sm_dance_bot.clients import CbLEDOff, CbLEDOn
-from smacc_py.state_machines.sm_dance_bot.modestates import (
-    LoopingSuperstate,
-    LoopStartState,
-    MsDanceBotRunMode,
-)
-from smacc_py.state_machines.sm_dance_bot.nav_events import (
-    ABS_ROTATE_FAILED,
-    ABS_ROTATE_OK,
-    FORWARD_FAILED,
-    FORWARD_OK,
-    UNDO_FAILED,
-    UNDO_OK,
-)
-from smacc_py.state_machines.sm_dance_bot.orthogonals import OrLED, OrNavigation
+from smacc_py.state_machines.sm_dance_bot.loop_pattern import LoopPattern, loop_end
+from smacc_py.state_machines.sm_dance_bot.modestates import LoopingSuperstate, MsDanceBotRunMode
 
 
 class TDirection(enum.Enum):
@@ -57,75 +36,28 @@ class SsFPattern1(LoopingSuperstate, parent=MsDanceBotRunMode):
     """Rays to one side, each followed by a pitch forward (upstream: 9 × 3.25 m rays, 0.75 m pitch)."""
 
     inner_initial_state = "StiFPatternStartLoop"
-    reactions = [Transition(EvLoopEnd["StiFPatternStartLoop"], "StNavigateReverse4", ENDLOOP)]
+    reactions = loop_end("StiFPatternStartLoop", "StNavigateReverse4")
     total_iterations = wp.F_ITERATIONS
     ray_length: ClassVar[float] = wp.F_RAY
     pitch_length: ClassVar[float] = wp.F_PITCH
     direction: ClassVar[TDirection] = TDirection.RIGHT
 
 
-class StiFPatternStartLoop(LoopStartState, parent=SsFPattern1):
-    """Another tooth, or the end of the comb."""
-
-    reactions = [Transition(EvLoopContinue["StiFPatternStartLoop"], "StiFPatternRotate1", CONTINUELOOP)]
-    superstate = SsFPattern1
-
-
-class StiFPatternRotate1(SmaccState, parent=SsFPattern1):
-    """Face the ray's side (absolute ±90°), LED off."""
-
-    reactions = [Transition(ABS_ROTATE_OK, "StiFPatternForward1"),
-                 Transition(ABS_ROTATE_FAILED, "StiFPatternForward1", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbAbsoluteRotate, SsFPattern1.direction.value)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
-
-
-class StiFPatternForward1(SmaccState, parent=SsFPattern1):
-    """Drive the ray, LED on."""
-
-    reactions = [Transition(FORWARD_OK, "StiFPatternReturn1"),
-                 Transition(FORWARD_FAILED, "StiFPatternReturn1", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateForward, SsFPattern1.ray_length, wp.FORWARD_SPEED)
-        cls.configure_orthogonal(OrLED, CbLEDOn)
-
-
-class StiFPatternReturn1(SmaccState, parent=SsFPattern1):
-    """Undo the ray backwards, LED on."""
-
-    reactions = [Transition(UNDO_OK, "StiFPatternRotate2"),
-                 Transition(UNDO_FAILED, "StiFPatternRotate2", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbUndoPathBackwards)
-        cls.configure_orthogonal(OrLED, CbLEDOn)
-
-
-class StiFPatternRotate2(SmaccState, parent=SsFPattern1):
-    """Face along x again (absolute 0°), LED off."""
-
-    reactions = [Transition(ABS_ROTATE_OK, "StiFPatternForward2"),
-                 Transition(ABS_ROTATE_FAILED, "StiFPatternForward2", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbAbsoluteRotate, 0.0)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
-
-
-class StiFPatternForward2(SmaccState, parent=SsFPattern1):
-    """One pitch along x, LED off."""
-
-    reactions = [Transition(FORWARD_OK, "StiFPatternStartLoop"),
-                 Transition(FORWARD_FAILED, "StiFPatternStartLoop", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateForward, SsFPattern1.pitch_length, wp.FORWARD_SPEED)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
+_F = LoopPattern(SsFPattern1, __name__)
+StiFPatternStartLoop = _F.loop_start("StiFPatternStartLoop", "StiFPatternRotate1",
+                                     "Another tooth, or the end of the comb.")
+StiFPatternRotate1 = _F.motion(
+    "StiFPatternRotate1", CbAbsoluteRotate, SsFPattern1.direction.value, led=CbLEDOff,
+    following="StiFPatternForward1", doc="Face the ray's side (absolute ±90°), LED off.")
+StiFPatternForward1 = _F.forward(
+    "StiFPatternForward1", SsFPattern1.ray_length, led=CbLEDOn,
+    following="StiFPatternReturn1", doc="Drive the ray, LED on.")
+StiFPatternReturn1 = _F.motion(
+    "StiFPatternReturn1", CbUndoPathBackwards, led=CbLEDOn,
+    following="StiFPatternRotate2", doc="Undo the ray backwards, LED on.")
+StiFPatternRotate2 = _F.motion(
+    "StiFPatternRotate2", CbAbsoluteRotate, 0.0, led=CbLEDOff,
+    following="StiFPatternForward2", doc="Face along x again (absolute 0°), LED off.")
+StiFPatternForward2 = _F.forward(
+    "StiFPatternForward2", SsFPattern1.pitch_length, led=CbLEDOff,
+    following="StiFPatternStartLoop", doc="One pitch along x, LED off.")

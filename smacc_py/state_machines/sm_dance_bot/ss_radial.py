@@ -22,26 +22,12 @@ import math
 from typing import ClassVar
 
 from smacc_py.clients.cl_nav2z import CbAbsoluteRotate, CbNavigateForward, CbUndoPathBackwards, CpOdomTracker
-from smacc_py.core import (
-    ABORT,
-    CONTINUELOOP,
-    ENDLOOP,
-    SUCCESS,
-    EvCbFailure,
-    EvCbSuccess,
-    EvLoopContinue,
-    EvLoopEnd,
-    SmaccState,
-    Transition,
-)
+from smacc_py.core import SmaccState
 from smacc_py.state_machines.sm_dance_bot import waypoints as wp
 from smacc_py.state_machines.sm_dance_bot.clients import CbLEDOff, CbLEDOn
-from smacc_py.state_machines.sm_dance_bot.modestates import (
-    LoopingSuperstate,
-    LoopStartState,
-    MsDanceBotRunMode,
-)
-from smacc_py.state_machines.sm_dance_bot.orthogonals import OrLED, OrNavigation
+from smacc_py.state_machines.sm_dance_bot.loop_pattern import LoopPattern, loop_end
+from smacc_py.state_machines.sm_dance_bot.modestates import LoopingSuperstate, MsDanceBotRunMode
+from smacc_py.state_machines.sm_dance_bot.orthogonals import OrNavigation
 
 
 class _RadialSuperstate(LoopingSuperstate):
@@ -60,7 +46,7 @@ class SsRadialPattern1(_RadialSuperstate, parent=MsDanceBotRunMode):
 
     inner_initial_state = "StiRadialLoopStart1"
     total_iterations, ray_length = wp.RADIAL_1
-    reactions = [Transition(EvLoopEnd["StiRadialLoopStart1"], "StRotateDegrees1", ENDLOOP)]
+    reactions = loop_end("StiRadialLoopStart1", "StRotateDegrees1")
 
 
 class SsRadialPattern2(_RadialSuperstate, parent=MsDanceBotRunMode):
@@ -68,7 +54,7 @@ class SsRadialPattern2(_RadialSuperstate, parent=MsDanceBotRunMode):
 
     inner_initial_state = "StiRadialLoopStart2"
     total_iterations, ray_length = wp.RADIAL_2
-    reactions = [Transition(EvLoopEnd["StiRadialLoopStart2"], "StNavigateReverse1", ENDLOOP)]
+    reactions = loop_end("StiRadialLoopStart2", "StNavigateReverse1")
 
 
 class SsRadialPattern3(_RadialSuperstate, parent=MsDanceBotRunMode):
@@ -76,7 +62,7 @@ class SsRadialPattern3(_RadialSuperstate, parent=MsDanceBotRunMode):
 
     inner_initial_state = "StiRadialLoopStart3"
     total_iterations, ray_length = wp.RADIAL_3
-    reactions = [Transition(EvLoopEnd["StiRadialLoopStart3"], "StRotateDegrees4", ENDLOOP)]
+    reactions = loop_end("StiRadialLoopStart3", "StRotateDegrees4")
 
 
 class _RadialInner(SmaccState):
@@ -87,17 +73,8 @@ class _RadialInner(SmaccState):
         return self.context(self.superstate)
 
 
-class _LoopStart(LoopStartState):
-    """Start (or end) another ray."""
-
-
 class _Rotate(_RadialInner):
     """Turn to the next ray's absolute heading, LED off."""
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbAbsoluteRotate, 0.0)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
 
     def runtime_configure(self) -> None:
         ss = self.ss()
@@ -108,11 +85,6 @@ class _Rotate(_RadialInner):
 class _EndPoint(_RadialInner):
     """Drive out along the ray, LED on."""
 
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateForward, 1.0, wp.FORWARD_SPEED)
-        cls.configure_orthogonal(OrLED, CbLEDOn)
-
     def runtime_configure(self) -> None:
         self.get_client_behavior(OrNavigation, CbNavigateForward).distance = self.ss().ray_length
 
@@ -120,40 +92,26 @@ class _EndPoint(_RadialInner):
 class _Return(_RadialInner):
     """Undo the ray backwards, LED off."""
 
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbUndoPathBackwards)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
-
     def on_exit(self) -> None:
         self.requires_component(CpOdomTracker).clear_path()
 
 
-def _inner(base: type[SmaccState], name: str, superstate: type[_RadialSuperstate],
-           reactions: list[Transition]) -> type[SmaccState]:
-    namespace = {"superstate": superstate, "reactions": reactions, "__doc__": base.__doc__,
-                 "__module__": __name__, "__qualname__": name}
-    return type(name, (base,), namespace, parent=superstate)
-
-
 def _radial_states(n: int, superstate: type[_RadialSuperstate]) -> tuple[type[SmaccState], ...]:
-    """``StiRadialLoopStart<n>``, ``StiRadialRotate<n>``, ``StiRadialEndPoint<n>``, ``StiRadialReturn<n>``."""
+    """``StiRadialLoopStart<n>``, ``StiRadialRotate<n>``, ``StiRadialEndPoint<n>``, ``StiRadialReturn<n>``.
+
+    The rotation's heading and the ray's length are set on entry (``runtime_configure``): they depend
+    on the ray and on the superstate, so the declared 0.0 and 1.0 are placeholders.
+    """
     start, rotate, end, back = (f"StiRadialLoopStart{n}", f"StiRadialRotate{n}", f"StiRadialEndPoint{n}",
                                 f"StiRadialReturn{n}")
+    pattern = LoopPattern(superstate, __name__)
     return (
-        _inner(_LoopStart, start, superstate, [Transition(EvLoopContinue[start], rotate, CONTINUELOOP)]),
-        _inner(_Rotate, rotate, superstate, [
-            Transition(EvCbSuccess[CbAbsoluteRotate, OrNavigation], end, SUCCESS),
-            Transition(EvCbFailure[CbAbsoluteRotate, OrNavigation], start, ABORT),
-        ]),
-        _inner(_EndPoint, end, superstate, [
-            Transition(EvCbSuccess[CbNavigateForward, OrNavigation], back, SUCCESS),
-            Transition(EvCbFailure[CbNavigateForward, OrNavigation], back, ABORT),
-        ]),
-        _inner(_Return, back, superstate, [
-            Transition(EvCbSuccess[CbUndoPathBackwards, OrNavigation], start, SUCCESS),
-            Transition(EvCbFailure[CbUndoPathBackwards, OrNavigation], start, ABORT),
-        ]),
+        pattern.loop_start(start, rotate, "Start (or end) another ray."),
+        pattern.motion(rotate, CbAbsoluteRotate, 0.0, led=CbLEDOff, following=end, on_failure=start,
+                       base=_Rotate),
+        pattern.motion(end, CbNavigateForward, 1.0, wp.FORWARD_SPEED, led=CbLEDOn, following=back,
+                       base=_EndPoint),
+        pattern.motion(back, CbUndoPathBackwards, led=CbLEDOff, following=start, base=_Return),
     )
 
 

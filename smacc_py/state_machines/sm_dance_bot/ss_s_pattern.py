@@ -17,99 +17,48 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from smacc_py.clients.cl_nav2z import CbAbsoluteRotate, CbNavigateForward
-from smacc_py.core import (
-    ABORT,
-    CONTINUELOOP,
-    ENDLOOP,
-    EvLoopContinue,
-    EvLoopEnd,
-    SmaccState,
-    Transition,
-)
+from smacc_py.clients.cl_nav2z import CbAbsoluteRotate
+from smacc_py.core import SmaccState
 from smacc_py.state_machines.sm_dance_bot import waypoints as wp
 from smacc_py.state_machines.sm_dance_bot.clients import CbLEDOff, CbLEDOn
-from smacc_py.state_machines.sm_dance_bot.modestates import (
-    LoopingSuperstate,
-    LoopStartState,
-    MsDanceBotRunMode,
-)
-from smacc_py.state_machines.sm_dance_bot.nav_events import (
-    ABS_ROTATE_FAILED,
-    ABS_ROTATE_OK,
-    FORWARD_FAILED,
-    FORWARD_OK,
-)
-from smacc_py.state_machines.sm_dance_bot.orthogonals import OrLED, OrNavigation
+from smacc_py.state_machines.sm_dance_bot.loop_pattern import LoopPattern, loop_end
+from smacc_py.state_machines.sm_dance_bot.modestates import LoopingSuperstate, MsDanceBotRunMode
 
 
 class SsSPattern1(LoopingSuperstate, parent=MsDanceBotRunMode):
     """A square wave (upstream: 9 iterations, pitches 0.75 and 1.45 m)."""
 
     inner_initial_state = "StiSPatternLoopStart"
-    reactions = [Transition(EvLoopEnd["StiSPatternLoopStart"], "StRotateDegrees6", ENDLOOP)]
+    reactions = loop_end("StiSPatternLoopStart", "StRotateDegrees6")
     total_iterations = wp.S_ITERATIONS
     pitch1_length: ClassVar[float] = wp.S_PITCH_1
     pitch2_length: ClassVar[float] = wp.S_PITCH_2
 
 
-class StiSPatternLoopStart(LoopStartState, parent=SsSPattern1):
-    """Another period of the wave, or the end."""
-
-    reactions = [Transition(EvLoopContinue["StiSPatternLoopStart"], "StiSPatternRotate1", CONTINUELOOP)]
-    superstate = SsSPattern1
+_S = LoopPattern(SsSPattern1, __name__)
 
 
-def _rotate(index: int, degrees: float, on_failure: str) -> type[SmaccState]:
-    name = f"StiSPatternRotate{index}"
-
-    @classmethod  # type: ignore[misc]
-    def static_configure(cls: type[SmaccState]) -> None:
-        cls.configure_orthogonal(OrNavigation, CbAbsoluteRotate, degrees)
-        cls.configure_orthogonal(OrLED, CbLEDOff)
-
-    namespace = {
-        "reactions": [Transition(ABS_ROTATE_OK, f"StiSPatternForward{index}"),
-                      Transition(ABS_ROTATE_FAILED, on_failure)],
-        "static_configure": static_configure, "__module__": __name__, "__qualname__": name,
-        "__doc__": f"Turn to {degrees:+.0f}° (absolute), LED off.",
-    }
-    return type(name, (SmaccState,), namespace, parent=SsSPattern1)
+def _rotate(index: int, degrees: float) -> type[SmaccState]:
+    """``StiSPatternRotate<index>``: turn to ``degrees`` (absolute), then the leg of the same index."""
+    return _S.motion(f"StiSPatternRotate{index}", CbAbsoluteRotate, degrees, led=CbLEDOff,
+                     following=f"StiSPatternForward{index}",
+                     doc=f"Turn to {degrees:+.0f}° (absolute), LED off.")
 
 
-def _forward(index: int, length: float, following: str) -> type[SmaccState]:
-    name = f"StiSPatternForward{index}"
-
-    @classmethod  # type: ignore[misc]
-    def static_configure(cls: type[SmaccState]) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateForward, length, wp.FORWARD_SPEED)
-        cls.configure_orthogonal(OrLED, CbLEDOn)
-
-    namespace = {
-        "reactions": [Transition(FORWARD_OK, following),
-                      Transition(FORWARD_FAILED, following, ABORT)],
-        "static_configure": static_configure, "__module__": __name__, "__qualname__": name,
-        "__doc__": f"Drive {length:g} m, LED on.",
-    }
-    return type(name, (SmaccState,), namespace, parent=SsSPattern1)
+def _forward(index: int, length: float, following: str, doc: str = "") -> type[SmaccState]:
+    """``StiSPatternForward<index>``: drive ``length`` m with the LED on, then ``following``."""
+    return _S.forward(f"StiSPatternForward{index}", length, led=CbLEDOn, following=following,
+                      doc=doc or f"Drive {length:g} m, LED on.")
 
 
-StiSPatternRotate1 = _rotate(1, 0.0, "StiSPatternForward1")
+StiSPatternLoopStart = _S.loop_start("StiSPatternLoopStart", "StiSPatternRotate1",
+                                     "Another period of the wave, or the end.")
+StiSPatternRotate1 = _rotate(1, 0.0)
 StiSPatternForward1 = _forward(1, SsSPattern1.pitch1_length, "StiSPatternRotate2")
-StiSPatternRotate2 = _rotate(2, -90.0, "StiSPatternForward2")
+StiSPatternRotate2 = _rotate(2, -90.0)
 StiSPatternForward2 = _forward(2, SsSPattern1.pitch2_length, "StiSPatternRotate3")
-StiSPatternRotate3 = _rotate(3, 0.0, "StiSPatternForward3")
+StiSPatternRotate3 = _rotate(3, 0.0)
 StiSPatternForward3 = _forward(3, SsSPattern1.pitch1_length, "StiSPatternRotate4")
-StiSPatternRotate4 = _rotate(4, 90.0, "StiSPatternForward4")
-
-
-class StiSPatternForward4(SmaccState, parent=SsSPattern1):
-    """Drive pitch2 back up, LED on; then the next period."""
-
-    reactions = [Transition(FORWARD_OK, "StiSPatternLoopStart"),
-                 Transition(FORWARD_FAILED, "StiSPatternLoopStart", ABORT)]
-
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbNavigateForward, SsSPattern1.pitch2_length, wp.FORWARD_SPEED)
-        cls.configure_orthogonal(OrLED, CbLEDOn)
+StiSPatternRotate4 = _rotate(4, 90.0)
+StiSPatternForward4 = _forward(4, SsSPattern1.pitch2_length, "StiSPatternLoopStart",
+                               "Drive pitch2 back up, LED on; then the next period.")

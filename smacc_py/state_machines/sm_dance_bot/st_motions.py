@@ -17,7 +17,6 @@ from smacc_py.core import ABORT, EvCbFailure, EvCbSuccess, SmaccState, Transitio
 from smacc_py.state_machines.sm_dance_bot import waypoints as wp
 from smacc_py.state_machines.sm_dance_bot.clients import CbLEDOff, CbLidarSensor
 from smacc_py.state_machines.sm_dance_bot.modestates import MsDanceBotRunMode
-from smacc_py.state_machines.sm_dance_bot.nav_events import ROTATE_FAILED, ROTATE_OK
 from smacc_py.state_machines.sm_dance_bot.orthogonals import OrLED, OrNavigation, OrObstaclePerception
 
 WAYPOINTS_X = "StNavigateToWaypointsX"
@@ -75,7 +74,8 @@ def _rotate_state(index: int, degrees: float, following: str, doc: str) -> type[
         cls.configure_common()
 
     namespace = {
-        "reactions": [Transition(ROTATE_OK, following), Transition(ROTATE_FAILED, WAYPOINTS_X)],
+        "reactions": [Transition(EvCbSuccess[CbRotate, OrNavigation], following),
+                      Transition(EvCbFailure[CbRotate, OrNavigation], WAYPOINTS_X)],
         "static_configure": static_configure, "__doc__": doc, "__module__": __name__, "__qualname__": name,
     }
     return type(name, (_Motion,), namespace, parent=MsDanceBotRunMode)

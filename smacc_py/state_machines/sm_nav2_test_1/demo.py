@@ -26,12 +26,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import shlex
-import shutil
-import signal
 import sys
-import threading
-import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -39,9 +34,14 @@ from ros_tools.launch import ProcessSpec
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
-READY_PATTERN = r"Nav2 is ready"
+from smacc_py.state_machines.stack_run import (
+    StackSession,
+    add_console_arguments,
+    parse_rtf,
+    run_against_stack,
+)
+
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_nav2_test_1.yaml"
-EXIT_SUCCESS, EXIT_ABORT, EXIT_TIMEOUT, EXIT_STACK, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 
 def parse_pose(text: str) -> list[float]:
@@ -54,53 +54,6 @@ def parse_pose(text: str) -> list[float]:
     if len(values) != 3:
         raise argparse.ArgumentTypeError(f"expected 3 numbers x,y,yaw, got {len(values)} in {text!r}")
     return values
-
-
-def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None,
-                    robot: str | None = None, console: Sequence[str] = ()) -> list[str]:
-    """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
-    ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
-
-    ``machine`` names the state machine that will join lockstep: the simulator waits for it before
-    its first step, so the mission starts at the same sim time on every run. ``robot`` is passed on
-    as ``--robot`` (nav-bringup checks the name and picks that robot's simulation and parameters).
-    ``console`` (nav-bringup's ``--verbose``, ``--log-dir``) is for nav-bringup only.
-    """
-    robot_args = ["--robot", robot] if robot else []
-    if custom:
-        return [*shlex.split(custom), *robot_args, "--rtf", rtf]
-    exe = shutil.which("nav-bringup")
-    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, *robot_args, "--rtf", rtf, *(["--participant", machine] if machine else []), *console]
-
-
-def add_console_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--verbose``, ``--quiet`` and ``--log-dir``, shared by the mission commands."""
-    parser.add_argument("--verbose", action="store_true",
-                        help="stream every line of every process (default: the mission's own lines; the "
-                             "stack's errors live, its last warnings if the run fails)")
-    parser.add_argument("--quiet", action="store_true", help="the default console (kept for scripts)")
-    parser.add_argument("--log-dir", type=Path, default=None,
-                        help="each process's full log, as <process>.log (default: $NAVSUITE_LOG_DIR, "
-                             "else artifacts/logs)")
-
-
-def console_arguments(options: argparse.Namespace, log_dir: Path) -> list[str]:
-    """What nav-bringup is told about the console: the same verbosity, the same log directory."""
-    return [*(["--verbose"] if options.verbose else []), "--log-dir", str(log_dir)]
-
-
-def parse_rtf(text: str) -> str:
-    """``--rtf``: a positive number or ``max`` (as fast as the stack keeps up, in lockstep)."""
-    if text.lower() in ("max", "inf"):
-        return "max"
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a positive number or 'max', got {text!r}") from None
-    if not value > 0.0:
-        raise argparse.ArgumentTypeError(f"must be a positive number or 'max', got {text!r}")
-    return f"{value:g}"
 
 
 REPORT_DEFAULT = Path("artifacts") / "demo_report.png"
@@ -170,46 +123,21 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
 def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
     from ros_tools.console import StackConsole
-    from ros_tools.launch import Launcher, LaunchError, default_log_dir
     from ros_tools.status_line import StatusLine
 
     out = StackConsole(options.verbose, "demo", StatusLine(sys.stdout, period=0.5))
-    log_dir = options.log_dir or default_log_dir()
-    launcher = Launcher(output=out.stack, log_dir=log_dir)
-    interrupted = threading.Event()
 
-    def on_signal(signum: int, frame: object) -> None:
-        interrupted.set()
-        launcher.stop()
-
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
-    wall_start = time.monotonic()
-    try:
-        command = bringup_command(options.rtf, options.bringup, "SmNav2Test1", options.robot,
-                                  console_arguments(options, log_dir))
-        out.say(f"[demo] starting the stack: {' '.join(command)}")
-        try:
-            launcher.start([ProcessSpec("nav", command, ready=READY_PATTERN,
-                                        ready_timeout=options.ready_timeout)])
-        except LaunchError as error:
-            out.show_kept()
-            out.say(f"[demo] FAILED: the stack did not come up: {error} (logs: {log_dir}/)")
-            return EXIT_INTERRUPTED if interrupted.is_set() else EXIT_STACK
-        out.say(f"[demo] the stack is ready ({time.monotonic() - wall_start:.1f} s); "
-                f"its logs: {log_dir}/<process>.log")
+    def mission(session: StackSession) -> int:
         from smacc_py.state_machines.sm_nav2_test_1.mission import run_mission
 
         if options.report is not None:
             options.report.parent.mkdir(parents=True, exist_ok=True)
-            launcher.start([recorder_spec(options.report)])
-        code = run_mission(options, launcher, out.say, interrupted, wall_start, out.live)
-        if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
-            out.show_problems(log_dir)
-        return code
-    finally:
-        launcher.shutdown()  # SIGINT first: the recorder closes its file
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+            session.launcher.start([recorder_spec(options.report)])
+        return run_mission(options, session)
+
+    try:
+        return run_against_stack(options, out, "SmNav2Test1", mission)
+    finally:  # after the stack's shutdown, which closed the recording
         if options.report is not None and options.report.with_suffix(".mcap").exists():
             write_run_report(options.report, out.say)
 

@@ -11,11 +11,17 @@ import argparse
 import threading
 import time
 from collections.abc import Callable
-from typing import Any
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
+from smacc_py.state_machines.stack_run import (
+    EXIT_ABORT,
+    EXIT_SUCCESS,
+    StackSession,
+    machine_runtime,
+    mission_sim_s,
+    wait_for_end,
+)
 
-EXIT_SUCCESS, EXIT_ABORT, EXIT_TIMEOUT, EXIT_STACK, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 FINAL_STATE = "StFinalState"
 
 
@@ -55,36 +61,19 @@ def summary(
     ]
 
 
-def run_mission(
-    options: argparse.Namespace,
-    launcher: Any,
-    say: Callable[[str], None],
-    interrupted: threading.Event,
-    wall_start: float,
-    live: Callable[[str], None] | None = None,
-) -> int:
+def run_mission(options: argparse.Namespace, session: StackSession) -> int:
     """Run the machine until StFinalState, a timeout, Ctrl-C or the stack's death; returns the exit code.
 
-    ``live`` gets the mission's status line (smacc_py.ros.mission_status) every 0.1 s (wall).
+    On a terminal the console's live line shows the mission's status (smacc_py.ros.mission_status),
+    redrawn every 0.1 s (wall).
     """
-    import rclpy
-    from rclpy.context import Context
-    from rclpy.parameter import Parameter
-
     from smacc_py.ros.mission_status import MissionStatus
-    from smacc_py.ros.runtime import SmaccRuntime
     from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1
 
-    args = ["--ros-args", "--params-file", str(options.params_file)] if options.params_file else []
-    context = Context()
-    rclpy.init(args=args, context=context)
-    overrides = [Parameter("use_sim_time", value=True)]
-    for name in ("waypoint1", "waypoint2"):
-        if getattr(options, name) is not None:
-            overrides.append(Parameter(name.replace("waypoint", "waypoint_"), value=getattr(options, name)))
-    runtime = None
-    try:
-        runtime = SmaccRuntime(SmNav2Test1, context=context, parameter_overrides=overrides)
+    say = session.out.say
+    waypoints = {name.replace("waypoint", "waypoint_"): getattr(options, name)
+                 for name in ("waypoint1", "waypoint2") if getattr(options, name) is not None}
+    with machine_runtime(SmNav2Test1, options.params_file, waypoints) as runtime:
         observer = MissionObserver(say)
         runtime.sm.add_observer(observer)
         status = MissionStatus()
@@ -98,48 +87,27 @@ def run_mission(
         runtime.spin_in_background()
         runtime.start()
         mission_start = time.monotonic()
-        deadline = mission_start + options.timeout
-        timed_out = threading.Event()
 
-        def until() -> bool:
-            if live is not None and runtime is not None and runtime.started_at_s is not None:
-                sim_s = runtime.sm.now() - runtime.started_at_s
-                live(status.line(runtime.sm.current_state_names(), sim_s, time.monotonic() - mission_start))
-            if observer.finished.is_set() or interrupted.is_set():
-                return True
-            if time.monotonic() > deadline:
-                timed_out.set()
-                return True
-            return False
+        def live() -> None:
+            if runtime.started_at_s is not None:
+                line = status.line(runtime.sm.current_state_names(), mission_sim_s(runtime),
+                                   time.monotonic() - mission_start)
+                session.out.live(line)
 
-        stack_code = launcher.wait(until)
+        end = wait_for_end(session, observer.finished.is_set, mission_start + options.timeout, live)
         records = list(observer.records)
-        started = runtime.started_at_s
-        sim_s = runtime.sm.now() - started if started is not None else 0.0
-        wall_s = time.monotonic() - wall_start
-        mission_wall_s = time.monotonic() - mission_start
-        if observer.finished.is_set():
+
+        def finished() -> tuple[int, str]:
             last = records[-1]
             ok = last.tag.family() == "SUCCESS"
-            code = EXIT_SUCCESS if ok else EXIT_ABORT
-            result = "SUCCESS: mission complete" if ok else f"ABORT: {_why(last)}"
-        elif interrupted.is_set():
-            code, result = EXIT_INTERRUPTED, "interrupted"
-        elif timed_out.is_set():
-            code, result = (
-                EXIT_TIMEOUT,
-                f"TIMEOUT after {options.timeout:.0f} s wall in {runtime.sm.current_state_names()}",
-            )
-        else:
-            code, result = EXIT_STACK, f"the stack stopped (exit code {stack_code}) before the mission ended"
+            return (EXIT_SUCCESS, "SUCCESS: mission complete") if ok else (EXIT_ABORT, f"ABORT: {_why(last)}")
+
+        code, result = end.verdict(finished, options.timeout, runtime.sm.current_state_names(), "mission")
+        now, sim_s = time.monotonic(), mission_sim_s(runtime)
+        wall_s, mission_wall_s = now - session.wall_start, now - mission_start
         for line in summary(records, "StAllSensorsGo", sim_s, wall_s, result, mission_wall_s):
             say(line)
         return code
-    finally:
-        if runtime is not None:
-            runtime.shutdown()
-        if context.ok():
-            rclpy.shutdown(context=context)
 
 
 def _why(record: TransitionRecord) -> str:
