@@ -24,7 +24,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D
 from nav_stack.core.grid import GridSpec
@@ -125,19 +124,20 @@ class NavfnPlanner:
                 f"goal cell {goal_cell} has cost {costs[goal_cell[1], goal_cell[0]]} and no "
                 f"free cell lies within tolerance {self.params.tolerance} m",
             )
+        near = equally_near(spec, goal, goal_cell, candidates)
         deadline = self._clock() + self.params.max_planning_time
         try:
             result = self._search(
                 graph,
                 graph.index(*start_cell),
-                graph.index(*_search_target(spec, start, goal, goal_cell, candidates)),
+                graph.index(*_search_target(spec, start, near)),
                 self.params.use_astar,
                 self.params.max_iterations,
                 lambda: self._clock() > deadline,
             )
         except SearchTimeoutError as exc:
             raise PlanningError(PlanErrorCode.TIMEOUT, str(exc)) from exc
-        target = self._end_cell(result, graph, spec, goal, goal_cell, candidates)
+        target = self._end_cell(result, graph, near, candidates)
         if target is None:
             raise PlanningError(
                 PlanErrorCode.NO_VALID_PATH,
@@ -152,41 +152,40 @@ class NavfnPlanner:
         return build_path(points, goal.yaw, spec.resolution)
 
     @staticmethod
-    def _end_cell(result: SearchResult, graph: SearchGraph, spec: GridSpec, goal: Pose2D,
-                  goal_cell: tuple[int, int], candidates: list[tuple[int, int]]) -> int | None:
-        """Where the plan ends (flat index): the goal cell when it was reached, else the cheapest reached
-        candidate among those within EQUALLY_NEAR of the nearest reached one; None when none was reached.
+    def _end_cell(result: SearchResult, graph: SearchGraph, near: list[tuple[int, int]],
+                  candidates: list[tuple[int, int]]) -> int | None:
+        """Where the plan ends (flat index): of the ``near`` candidates (the goal cell alone when it is
+        passable) the cheapest the search reached; when it reached none of them, the reached candidate
+        nearest the goal (NavFn's rule); None when it reached no candidate at all.
 
         Dijkstra has expanded every cell cheaper than the search's target, so its choice is exact; A*
         (``use_astar``) chooses among the cells it expanded on its way to the target, which
         ``_search_target`` put on the robot's side."""
-        reached = [c for c in candidates
-                   if graph.index(*c) == result.reached or result.was_expanded(graph.index(*c))]
-        if not reached:
-            return None
-        if reached[0] == goal_cell:
-            return graph.index(*goal_cell)
-        indices = np.array([graph.index(*c) for c in reached])
-        cost = np.where(_equally_near(spec, goal, reached), result.g[indices], math.inf)
-        return int(indices[int(np.argmin(cost))])
+        def was_reached(cell: tuple[int, int]) -> bool:
+            index = graph.index(*cell)
+            return index == result.reached or result.was_expanded(index)
+
+        reached_near = [graph.index(*c) for c in near if was_reached(c)]
+        if reached_near:
+            return min(reached_near, key=lambda index: float(result.g[index]))
+        return next((graph.index(*c) for c in candidates if was_reached(c)), None)
 
 
-def _equally_near(spec: GridSpec, goal: Pose2D, cells: list[tuple[int, int]]) -> npt.NDArray[np.bool_]:
-    """Which of ``cells`` (nearest the goal first) lie within EQUALLY_NEAR of the goal's distance to the
-    first."""
-    xs, ys = np.array(cells).T
+def equally_near(spec: GridSpec, goal: Pose2D, goal_cell: tuple[int, int],
+                 candidates: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """The candidates (nearest the goal first) within EQUALLY_NEAR of the goal's distance to the nearest;
+    only the goal cell when it is a candidate (passable)."""
+    if candidates[0] == goal_cell:
+        return [goal_cell]
+    xs, ys = np.array(candidates).T
     wx, wy = spec.cell_to_world(xs, ys)
     distance = np.hypot(wx - goal.x, wy - goal.y)
-    return np.asarray(distance <= distance[0] + EQUALLY_NEAR)
+    return [c for c, d in zip(candidates, distance, strict=True) if d <= distance[0] + EQUALLY_NEAR]
 
 
-def _search_target(spec: GridSpec, start: Pose2D, goal: Pose2D, goal_cell: tuple[int, int],
-                   candidates: list[tuple[int, int]]) -> tuple[int, int]:
-    """The cell the search runs toward: the goal cell when passable, else, of the candidates equally
-    near the goal, the one nearest the start (the heuristic's guess at the cheapest)."""
-    if candidates[0] == goal_cell:
-        return goal_cell
-    near = [c for c, keep in zip(candidates, _equally_near(spec, goal, candidates), strict=True) if keep]
+def _search_target(spec: GridSpec, start: Pose2D, near: list[tuple[int, int]]) -> tuple[int, int]:
+    """The cell the search runs toward: of the equally near candidates, the one nearest the start (the
+    heuristic's guess at the cheapest)."""
     xs, ys = np.array(near).T
     wx, wy = spec.cell_to_world(xs, ys)
     return near[int(np.argmin(np.hypot(wx - start.x, wy - start.y)))]

@@ -157,11 +157,15 @@ def test_a_goal_inside_a_round_pillar_ends_on_the_side_the_robot_comes_from(use_
     spec = GridSpec(80, 80, 0.05)
     costs, goal = _pillar(spec, 0.52)
     planner = NavfnPlanner(NavfnParams(use_astar=use_astar, tolerance=0.5))
+    free_y, free_x = np.nonzero(costs == 0)
+    nearest = float(np.hypot(*(np.array(spec.cell_to_world(free_x, free_y)).T - (goal.x, goal.y)).T).min())
     for angle in np.radians([0, 45, 90, 135, 180, 225, 270, 315]):
         start = Pose2D(goal.x + 1.5 * math.cos(angle), goal.y + 1.5 * math.sin(angle), 0.0)
         end = planner.create_plan(start, goal, costs, spec)[-1]
         bearing = math.atan2(end[1] - goal.y, end[0] - goal.x)
         assert abs(math.remainder(bearing - angle, math.tau)) < math.radians(30), (math.degrees(angle), end)
+        # never farther from the goal than EQUALLY_NEAR beyond the nearest free cell
+        assert math.dist(end[:2], (goal.x, goal.y)) <= nearest + EQUALLY_NEAR + 1e-9, end
 
 
 def test_a_clearly_nearer_candidate_still_wins_over_a_cheaper_one() -> None:
