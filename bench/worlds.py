@@ -129,3 +129,46 @@ def random_obstacle_costmap(size: int, seed: int, n_obstacles: int = 400) -> tup
             disc = (xx[sl] - cx) ** 2 + (yy[sl] - cy) ** 2 <= r * r
             costs[sl][disc] = LETHAL_OBSTACLE
     return inflate(costs, spec.resolution), spec
+
+
+def warehouse_costmap(seed: int, resolution: float = 0.03, size: tuple[float, float] = (30.0, 50.0)
+                      ) -> tuple[U8, GridSpec]:
+    """A warehouse floor at ``resolution`` m: racks in rows along y, aisles between them, cross aisles,
+    scattered pallets in the aisles, inflated like the TB3 map.
+
+    Why: issue 19's second large map. At 3 cm a 30 m × 50 m hall is 1000 × 1667 cells (1.67 million),
+    and its long racks force detours that a random-obstacle map does not. Sizes are in m.
+    Layout (all from ``seed``): a 0.3 m outer wall; racks 1.0 m deep and 5 to 9 m long, in columns
+    3.6 m apart (a 2.6 m aisle), broken by 2.4 m cross aisles every 10 to 14 m; 60 pallets of
+    0.8 m × 1.2 m (either way round) placed at random, some narrowing the aisles.
+    """
+    rng = np.random.default_rng(seed)
+    width, height = round(size[0] / resolution), round(size[1] / resolution)
+    spec = GridSpec(width, height, resolution)
+    costs = np.zeros(spec.shape, dtype=np.uint8)
+
+    def block(x0: float, y0: float, x1: float, y1: float) -> None:
+        """Mark the rectangle [x0, x1] × [y0, y1] (m) lethal."""
+        c0, c1 = max(int(x0 / resolution), 0), min(math.ceil(x1 / resolution), width)
+        r0, r1 = max(int(y0 / resolution), 0), min(math.ceil(y1 / resolution), height)
+        costs[r0:r1, c0:c1] = LETHAL_OBSTACLE
+
+    wall = 0.3
+    block(0.0, 0.0, size[0], wall)
+    block(0.0, size[1] - wall, size[0], size[1])
+    block(0.0, 0.0, wall, size[1])
+    block(size[0] - wall, 0.0, size[0], size[1])
+    rack_depth, pitch = 1.0, 3.6
+    x = 2.5
+    while x + rack_depth < size[0] - 2.5:
+        y = 2.5 + float(rng.uniform(0.0, 1.0))
+        while y < size[1] - 2.5:
+            length = float(rng.uniform(5.0, 9.0))
+            block(x, y, x + rack_depth, min(y + length, size[1] - 2.5))
+            y += length + 2.4 + float(rng.uniform(0.0, 3.0))  # a cross aisle
+        x += pitch
+    for _ in range(60):
+        px, py = rng.uniform(1.0, size[0] - 2.0), rng.uniform(1.0, size[1] - 2.0)
+        w, h = (0.8, 1.2) if rng.random() < 0.5 else (1.2, 0.8)
+        block(float(px), float(py), float(px) + w, float(py) + h)
+    return inflate(costs, resolution), spec

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
-import math
 from typing import Protocol
 
 import numpy as np
@@ -75,13 +73,15 @@ def build_path(points: FloatArray, goal_yaw: float, spacing: float) -> FloatArra
     each pose faces the next one, and the last pose takes the goal's yaw."""
     if len(points) == 1:
         return np.array([[points[0, 0], points[0, 1], goal_yaw]])
-    pieces = []
-    for a, b in itertools.pairwise(points):
-        n = max(1, math.ceil(float(np.hypot(*(b - a))) / spacing - 0.5))
-        t = np.arange(n)[:, None] / n
-        pieces.append(a + t * (b - a))
-    pieces.append(points[-1:])
-    xy = np.vstack(pieces)
+    # One array operation over all segments (a grid path has thousands of one-cell segments, and a
+    # loop over them took 13 ms of a 2000 x 2000 plan): segment i contributes n_i poses at
+    # a_i + (k / n_i)·(b_i − a_i), k = 0 … n_i − 1, then the last point closes the path.
+    a, delta = points[:-1], np.diff(points, axis=0)
+    n = np.maximum(1, np.ceil(np.hypot(delta[:, 0], delta[:, 1]) / spacing - 0.5)).astype(np.int64)
+    segment = np.repeat(np.arange(len(n)), n)
+    k = np.arange(len(segment)) - np.repeat(np.cumsum(n) - n, n)
+    t = (k / n[segment])[:, None]
+    xy = np.vstack((a[segment] + t * delta[segment], points[-1:]))
     path = np.column_stack((xy, headings_along(xy)))
     path[-1, 2] = goal_yaw
     return path

@@ -152,10 +152,12 @@ class SearchResult:
 
     def cells_to(self, graph: SearchGraph, index: int) -> list[tuple[int, int]]:
         """Cells (mx, my) from the start to ``index`` following the parent links."""
+        parent = self.parent
         chain = [index]
-        while self.parent[chain[-1]] >= 0:
-            chain.append(int(self.parent[chain[-1]]))
-        return [graph.cell(i) for i in reversed(chain)]
+        while parent[chain[-1]] >= 0:
+            chain.append(int(parent[chain[-1]]))
+        rows, cols = np.divmod(np.array(chain[::-1], dtype=np.int64), graph.stride)
+        return list(zip((cols - 1).tolist(), (rows - 1).tolist(), strict=True))
 
     def was_expanded(self, index: int) -> bool:
         return bool(self.expanded[index] == _CLOSED_EXPANDED)

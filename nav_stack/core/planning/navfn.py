@@ -18,6 +18,7 @@ map ends with TIMEOUT instead of blocking the planner server.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -45,8 +46,8 @@ from nav_stack.core.planning.grid_search import (
     SearchTimeoutError,
     navfn_cost_table,
 )
+from nav_stack.core.planning.grid_search_jit import SearchArrays, warm_up
 from nav_stack.core.planning.grid_search_jit import search as compiled_search
-from nav_stack.core.planning.grid_search_jit import warm_up
 
 Search = Callable[[SearchGraph, int, int, bool, int, Callable[[], bool]], SearchResult]
 
@@ -94,6 +95,8 @@ class NavfnPlanner:
         self._search = search
         if search is compiled_search:
             warm_up()  # compile now, not inside the first plan's max_planning_time
+            # one set of search arrays for all plans (grid_search_jit.SearchArrays: why)
+            self._search = functools.partial(compiled_search, arrays=SearchArrays())
         self._cached_costs: CostArray | None = None
         self._graph: SearchGraph | None = None
 

@@ -112,7 +112,8 @@ def warm_up() -> None:
 def search(graph: SearchGraph, start: int, goal: int, params: ThetaStarParams,
            deadline_passed: Callable[[], bool]) -> list[int]:
     """theta_star.search, compiled: the same arguments, chain and PlanningErrors."""
-    a = SearchArrays(graph, start)
+    a = SearchArrays()  # fresh arrays: this loop does not list the cells it reaches for a reuse
+    a.start(graph, start)
     a.parent[start] = start
     expansions = 0
     while True:
