@@ -15,12 +15,18 @@ rotated once, and every translation is an integer cell offset added to their fla
 
 Responses are multiplied by Karto's distance/angle penalties, so among equally good fits the one
 nearest the odometry prediction wins and featureless corridors do not make the pose wander.
+
+Every match also reports how ambiguous it was (Karto's ``ComputePositionalCovariance``): the
+spread of the coarse candidates whose unpenalised response comes within ``_AMBIGUITY_RATIO`` of
+the best, about the best. A corridor seen without its ends spreads along its axis, a periodic
+world spreads over its period; a loop closure rejects such matches instead of trusting the
+penalty's tie-break.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -31,6 +37,9 @@ from nav_stack.core.geometry import FloatArray, Pose2D, normalize_angle
 F32 = npt.NDArray[np.float32]
 # Karto's gains in its penalty 1 - gain · d² / variance_penalty (same for distance and angle).
 _PENALTY_GAIN = 0.2
+# Coarse candidates scoring at least this share of the best unpenalised response count as rivals
+# of the best when the match covariance is computed.
+_AMBIGUITY_RATIO = 0.9
 
 
 @dataclass(frozen=True)
@@ -50,11 +59,22 @@ class SearchWindow:
 
 @dataclass(frozen=True)
 class MatchResult:
-    """Best pose found, its response in [0, 1] (mean smear under the points, penalised) and the coarse one."""
+    """Best pose found, its response in [0, 1] (mean smear under the points, penalised) and the coarse one.
+
+    ``covariance`` (3 × 3, m² and rad², x/y/yaw in the map frame) is the response-weighted spread
+    of the near-best coarse candidates about the best one, floored at half a coarse step: small
+    for a distinct fit, large along a corridor or across the period of a repetitive world.
+    """
 
     pose: Pose2D
     response: float
     coarse_response: float
+    covariance: FloatArray = field(default_factory=lambda: np.diag([1e6, 1e6, 1e6]))
+
+    @property
+    def position_stddev(self) -> float:
+        """Standard deviation (m) along the least certain direction of the matched position."""
+        return math.sqrt(max(float(np.linalg.eigvalsh(self.covariance[:2, :2]).max()), 0.0))
 
 
 class CorrelationGrid:
@@ -197,6 +217,33 @@ def _refine(grid: CorrelationGrid, points: FloatArray, pose: Pose2D, iterations:
     return best_pose, best
 
 
+def _spread(
+    raw: F32, best: tuple[int, int], offsets: npt.NDArray[np.int64], yaws: FloatArray, resolution: float
+) -> FloatArray:
+    """Response-weighted covariance (m², rad²) of the near-best coarse candidates about the best one.
+
+    Translations are compared at the best yaw and yaws at the best translation (as Karto does),
+    each floored at half a coarse step so a unique peak still reports the grid's own uncertainty.
+    """
+    a, t = best
+    row = raw[a].astype(np.float64)
+    if row[t] <= 0.0:
+        return np.diag([1e6, 1e6, 1e6])
+    rivals = row >= _AMBIGUITY_RATIO * row[t]
+    w = row[rivals] / row[rivals].sum()
+    d = (offsets[rivals] - offsets[t]) * resolution
+    step = resolution * (int(offsets[1, 0] - offsets[0, 0]) if len(offsets) > 1 else 1)
+    cov = np.zeros((3, 3))
+    cov[:2, :2] = (d * w[:, None]).T @ d + np.eye(2) * (0.5 * step) ** 2
+    column = raw[:, t].astype(np.float64)
+    near = column >= _AMBIGUITY_RATIO * column[a]
+    wy = column[near] / column[near].sum()
+    dyaw = yaws[near] - yaws[a]
+    yaw_step = yaws[1] - yaws[0] if len(yaws) > 1 else 0.0
+    cov[2, 2] = float(wy @ (dyaw * dyaw)) + (0.5 * yaw_step) ** 2
+    return cov
+
+
 def match(grid: CorrelationGrid, points: FloatArray, prior: Pose2D, window: SearchWindow) -> MatchResult:
     """Best pose of robot-frame ``points`` against ``grid`` within ``window`` around ``prior`` (map frame)."""
     if len(points) == 0:
@@ -210,6 +257,7 @@ def match(grid: CorrelationGrid, points: FloatArray, prior: Pose2D, window: Sear
     coarse = _penalised(raw, offsets, yaws, res, window, (0.0, 0.0), 0.0)
     a, t = np.unravel_index(int(np.argmax(coarse)), coarse.shape)
     coarse_response = float(coarse[a, t])
+    covariance = _spread(raw, (int(a), int(t)), offsets, yaws, res)
     best_yaw_off = float(yaws[a])
     best_off = (int(offsets[t, 0]), int(offsets[t, 1]))
 
@@ -233,4 +281,4 @@ def match(grid: CorrelationGrid, points: FloatArray, prior: Pose2D, window: Sear
         if value > unpenalised:
             response *= value / max(unpenalised, 1e-12)
             pose = refined
-    return MatchResult(pose, min(response, 1.0), coarse_response)
+    return MatchResult(pose, min(response, 1.0), coarse_response, covariance)

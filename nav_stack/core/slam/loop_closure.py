@@ -7,6 +7,13 @@ nodes that all lie within ``loop_search_maximum_distance``; whatever that walk r
 excluded. Of the remaining near nodes, a run of at least ``loop_match_minimum_chain_size``
 consecutive scans forms the reference the new scan is matched against; requiring a chain keeps
 one stray scan from producing a closure.
+
+How far to search, and what to believe: the match window is the pose-graph uncertainty between
+the chain and the new scan (``search_half_extent``: the graph path between them, each link adding
+its variance), so a well-anchored graph does not look metres away for a look-alike. A match must
+then pass ``verified``: both responses over their thresholds and a distinct peak (the matcher's
+covariance under ``loop_match_maximum_stddev``). A periodic or corridor-like place scores well at
+several offsets and is rejected there rather than trusted to the penalty's tie-break.
 """
 
 from __future__ import annotations
@@ -16,6 +23,8 @@ from collections import deque
 import numpy as np
 
 from nav_stack.core.geometry import FloatArray
+from nav_stack.core.slam.correlation import MatchResult
+from nav_stack.core.slam.params import SlamParams
 
 
 def linked_near_nodes(adjacency: list[list[int]], near: np.ndarray, start: int) -> set[int]:
@@ -51,3 +60,38 @@ def candidate_chains(
     chains = [run for run in runs if len(run) >= min_chain]
     chains.sort(key=lambda run: float(d[run].min()))
     return chains
+
+
+def graph_hops(adjacency: list[list[int]], start: int, targets: list[int]) -> int:
+    """Fewest edges on a graph path from ``start`` to any of ``targets`` (len(adjacency) if none)."""
+    goal = set(targets)
+    depth = {start: 0}
+    queue = deque([start])
+    while queue:
+        node = queue.popleft()
+        if node in goal:
+            return depth[node]
+        for other in adjacency[node]:
+            if other not in depth:
+                depth[other] = depth[node] + 1
+                queue.append(other)
+    return len(adjacency)
+
+
+def search_half_extent(hops: int, params: SlamParams) -> float:
+    """Half side (m) of the loop-match window: three standard deviations of the position drift
+    accumulated over ``hops`` links (``link_stddev_xy`` each, independent), kept between the
+    running-buffer window and ``loop_search_space_dimension`` / 2."""
+    sigma = params.link_stddev_xy * float(np.sqrt(max(hops, 1)))
+    low = params.correlation_search_space_dimension / 2.0
+    return float(np.clip(3.0 * sigma, low, params.loop_search_space_dimension / 2.0))
+
+
+def verified(result: MatchResult | None, params: SlamParams) -> bool:
+    """A loop match is accepted: strong coarse and fine responses and a distinct position peak."""
+    return (
+        result is not None
+        and result.coarse_response >= params.loop_match_minimum_response_coarse
+        and result.response >= params.loop_match_minimum_response_fine
+        and result.position_stddev <= params.loop_match_maximum_stddev
+    )

@@ -7,8 +7,11 @@ Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_headi
 2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) with the
    correlative matcher around the prediction; a weak response keeps the prediction;
 3. add a pose-graph node with a sequential edge, and fold the scan into the log-odds grid;
-4. look for a loop closure against older, unlinked scan chains; an accepted one adds an edge,
-   re-optimises the graph and marks the map for a rebuild from the moved nodes;
+4. look for a loop closure against the nearest older, unlinked scan chain, within a window as wide
+   as the graph's drift between the chain and the new scan (loop_closure.py); a match with strong
+   responses and a distinct peak adds a robust edge weighted by the match covariance, the whole
+   graph is re-optimised (Cauchy kernel on loop edges) and the map is re-rendered from the moved
+   nodes the next time it is read;
 5. ``map_to_odom = pose ∘ odom⁻¹``, so the correction stays small and odom stays continuous.
 
 Scans between processed ones only update the reported pose through the last correction.
@@ -28,7 +31,7 @@ from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
 from nav_stack.core.slam.laser import ScanPoints, scan_points
 from nav_stack.core.slam.log_odds import LogOddsGrid
-from nav_stack.core.slam.loop_closure import candidate_chains
+from nav_stack.core.slam.loop_closure import candidate_chains, graph_hops, search_half_extent, verified
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.pose_graph import Edge, optimize
 
@@ -91,6 +94,8 @@ class GridSlam:
         self._map_to_odom = Pose2D(0.0, 0.0, 0.0)
         self._map_dirty = False
         self.loop_closures = 0
+        self.loop_closures_rejected = 0
+        self._last_closure = -(10**9)
         s_xy, s_yaw = p.link_stddev_xy, p.link_stddev_yaw
         self._information = np.diag([1.0 / s_xy**2, 1.0 / s_xy**2, 1.0 / s_yaw**2])
         self._link_window = SearchWindow(
@@ -115,6 +120,11 @@ class GridSlam:
     def poses(self) -> FloatArray:
         """(N, 3) robot poses in the map of the processed scans (pose-graph nodes), oldest first."""
         return np.array(self._poses, dtype=np.float64, copy=True)
+
+    @property
+    def edges(self) -> tuple[Edge, ...]:
+        """Pose-graph constraints, sequential and loop (``robust``), in the order they were added."""
+        return tuple(self._edges)
 
     def process(
         self, scan: LaserScan, odom_pose: Pose2D, stamp: float, laser_pose: Pose2D = IDENTITY
@@ -192,8 +202,11 @@ class GridSlam:
             self._grid.integrate(*points.in_map(pose))
         return SlamUpdate(self._map_to_odom, pose, processed=True, response=response)
 
-    def _link(self, i: int, j: int, z: Pose2D) -> None:
-        self._edges.append(Edge(i, j, (z.x, z.y, z.yaw), self._information))
+    def _link(self, i: int, j: int, z: Pose2D, information: FloatArray | None = None) -> None:
+        """Add edge i → j; sequential links get the fixed link information, loop edges their own (robust)."""
+        loop = information is not None
+        info = self._information if information is None else information
+        self._edges.append(Edge(i, j, (z.x, z.y, z.yaw), info, robust=loop))
         self._adjacency[i].append(j)
         self._adjacency[j].append(i)
 
@@ -236,9 +249,13 @@ class GridSlam:
         return self._match(reference, points.hits, predicted, self._link_window)
 
     def _try_loop_closure(self) -> bool:
-        """Match the newest scan against the nearest unlinked chain; on success add the edge and optimise."""
+        """Match the newest scan against the nearest unlinked chain within the graph's uncertainty;
+        if the match is verified, add a robust edge, re-optimise the whole graph and mark the map
+        for a rebuild from the moved nodes."""
         p = self.params
         current = len(self._odom) - 1
+        if current - self._last_closure < p.loop_closure_cooldown_nodes:
+            return False
         chains = candidate_chains(
             self._poses,
             self._adjacency,
@@ -250,24 +267,36 @@ class GridSlam:
             return False
         chain = chains[0]
         prior = Pose2D(*self._poses[current])
-        result = self._match(self._hits_in_map(chain), self._scans[current].hits, prior, self._loop_window)
-        if (
-            result is None
-            or result.coarse_response < p.loop_match_minimum_response_coarse
-            or result.response < p.loop_match_minimum_response_fine
-        ):
+        half = search_half_extent(graph_hops(self._adjacency, current, chain), p)
+        window = replace(self._loop_window, half_extent=half)
+        result = self._match(self._hits_in_map(chain), self._scans[current].hits, prior, window)
+        if result is None or not verified(result, p):
+            self.loop_closures_rejected += result is not None
             return False
-        matched = np.array([result.pose], dtype=np.float64)
-        d = np.hypot(self._poses[chain, 0] - matched[0, 0], self._poses[chain, 1] - matched[0, 1])
+        d = np.hypot(self._poses[chain, 0] - result.pose.x, self._poses[chain, 1] - result.pose.y)
         anchor = chain[int(np.argmin(d))]
-        self._link(anchor, current, between(Pose2D(*self._poses[anchor]), result.pose))
-        optimized = optimize(self._poses, self._edges, p.optimizer_max_iterations)
+        self._link(
+            anchor,
+            current,
+            between(Pose2D(*self._poses[anchor]), result.pose),
+            self._loop_information(result, float(self._poses[anchor, 2])),
+        )
+        optimized = optimize(
+            self._poses, self._edges, p.optimizer_max_iterations, kernel_width=p.loop_robust_kernel_width
+        )
         moved = float(np.hypot(*(optimized[:, :2] - self._poses[:, :2]).T).max())
         self._poses = optimized
         # Rebuilding costs one integration per node; corrections under half a cell would not change it.
         self._map_dirty |= moved > 0.5 * p.resolution
         self.loop_closures += 1
+        self._last_closure = current
         return True
+
+    def _loop_information(self, result: MatchResult, anchor_yaw: float) -> FloatArray:
+        """Information of a loop edge: the inverse match covariance, rotated into the anchor's frame."""
+        c, s = math.cos(anchor_yaw), math.sin(anchor_yaw)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        return np.asarray(np.linalg.inv(rot.T @ result.covariance @ rot), dtype=np.float64)
 
     def _rebuild_map(self) -> None:
         self._grid.clear()

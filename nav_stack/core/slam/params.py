@@ -54,11 +54,19 @@ class SlamParams:
         loop_search_maximum_distance: older poses within this distance (m) are candidates.
         loop_match_minimum_chain_size: candidates must form a chain of this many consecutive scans.
         loop_match_minimum_response_coarse / _fine: response (0..1) needed to accept a closure.
-        loop_search_space_dimension: side (m) of the loop translation window (slam_toolbox: 8.0).
+        loop_match_maximum_stddev: largest standard deviation (m) of the matched position, from
+            the spread of the near-best candidates, for a closure to be accepted: rejects matches
+            that fit equally well at several offsets (corridors, repeated features). slam_toolbox's
+            loop_match_maximum_variance_coarse plays this role in its own (cell) units.
+        loop_search_space_dimension: largest side (m) of the loop translation window (slam_toolbox:
+            8.0); the window actually searched is three standard deviations of the graph's drift
+            between the chain and the new scan, at least the running-buffer window.
+        loop_robust_kernel_width: width c (standard deviations) of the Cauchy kernel that down-weights
+            loop edges the rest of the graph contradicts (not a slam_toolbox knob).
         loop_closure_cooldown_nodes: processed scans to wait after an accepted closure before
             searching again (bounds the cost of revisiting an area; not a slam_toolbox knob).
-        link_stddev_xy / link_stddev_yaw: standard deviation (m, rad) given to every pose-graph
-            constraint (sequential and loop).
+        link_stddev_xy / link_stddev_yaw: standard deviation (m, rad) of every sequential
+            (scan-matched) pose-graph constraint; loop edges take the match's own covariance.
         optimizer_max_iterations: Gauss-Newton iterations of the pose-graph solve.
     """
 
@@ -97,7 +105,9 @@ class SlamParams:
     loop_match_minimum_chain_size: int = 10
     loop_match_minimum_response_coarse: float = 0.35
     loop_match_minimum_response_fine: float = 0.45
+    loop_match_maximum_stddev: float = 0.1
     loop_search_space_dimension: float = 2.0
+    loop_robust_kernel_width: float = 1.0
     loop_closure_cooldown_nodes: int = 10
     link_stddev_xy: float = 0.05
     link_stddev_yaw: float = 0.02
@@ -129,6 +139,8 @@ class SlamParams:
             "scan_buffer_size",
             "max_scan_points",
             "loop_search_space_dimension",
+            "loop_match_maximum_stddev",
+            "loop_robust_kernel_width",
         )
         for name in positive:
             if getattr(self, name) <= 0:

@@ -7,6 +7,13 @@ matrix in Python. The first node is anchored (it defines the map frame), the res
 
 An edge (i, j, z, Ω) says "node j seen from node i is at z = (x, y, yaw)" with information Ω
 (3 × 3). Its error is e = t2v(Z⁻¹ · Xi⁻¹ · Xj); each iteration linearises all edges at once.
+
+Robust edges (loop closures) go through a Cauchy kernel by iteratively reweighted least squares:
+an edge whose Mahalanobis error s = eᵀΩe is large against the rest of the graph gets its
+information scaled by 1 / (1 + s / c²), so one false closure that contradicts the odometry chain
+and the other closures is pulled on weakly instead of bending the whole map (Agarwal et al. 2013
+make the same argument for dynamic covariance scaling). Sequential edges stay quadratic: they are
+the backbone the outliers are judged against.
 """
 
 from __future__ import annotations
@@ -21,12 +28,25 @@ from nav_stack.core.geometry import FloatArray, normalize_angles
 
 @dataclass(frozen=True)
 class Edge:
-    """Constraint: node ``j`` seen from node ``i`` is at ``z`` = (x, y, yaw), with 3 × 3 ``information``."""
+    """Constraint: node ``j`` seen from node ``i`` is at ``z`` = (x, y, yaw), with 3 × 3 ``information``.
+
+    ``robust`` edges (loop closures) are down-weighted by the Cauchy kernel when they disagree
+    with the rest of the graph.
+    """
 
     i: int
     j: int
     z: tuple[float, float, float]
     information: FloatArray
+    robust: bool = False
+
+
+def robust_weights(
+    errors: FloatArray, info: FloatArray, robust: npt.NDArray[np.bool_], width: float
+) -> FloatArray:
+    """IRLS weights (E,) of the Cauchy kernel of ``width`` (Mahalanobis units); 1 for non-robust edges."""
+    s = np.einsum("ei,eij,ej->e", errors, info, errors)
+    return np.where(robust, 1.0 / (1.0 + s / (width * width)), 1.0)
 
 
 def relative_pose(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -170,11 +190,16 @@ def _dense_solve(
 
 
 def optimize(
-    poses: FloatArray, edges: list[Edge], max_iterations: int = 10, tolerance: float = 1e-4
+    poses: FloatArray,
+    edges: list[Edge],
+    max_iterations: int = 10,
+    tolerance: float = 1e-4,
+    kernel_width: float = 1.0,
 ) -> FloatArray:
     """Gauss-Newton over all node poses (N, 3) with node 0 fixed; returns the optimised copy.
 
     Stops after ``max_iterations`` or once no pose moves by more than ``tolerance`` (m or rad).
+    ``kernel_width`` is the Cauchy kernel's c (in standard deviations) applied to robust edges.
     """
     x = np.array(poses, dtype=np.float64, copy=True)
     n = len(x)
@@ -186,11 +211,13 @@ def optimize(
     i = np.array([e.i for e in edges], dtype=np.int64)
     j = np.array([e.j for e in edges], dtype=np.int64)
     z = np.array([e.z for e in edges], dtype=np.float64)
-    info = np.stack([e.information for e in edges])
+    info0 = np.stack([e.information for e in edges])
+    robust = np.array([e.robust for e in edges], dtype=bool)
     cz, sz = np.cos(z[:, 2]), np.sin(z[:, 2])
     rz_t = np.stack((np.column_stack((cz, sz)), np.column_stack((-sz, cz))), axis=1)  # (E, 2, 2) = Rzᵀ
     for _ in range(max_iterations):
         err, a, b = _linearize(x, i, j, z, rz_t)
+        info = info0 * robust_weights(err, info0, robust, kernel_width)[:, None, None]
         w = info @ err[:, :, None]
         gradient = _scatter(i, (np.transpose(a, (0, 2, 1)) @ w)[:, :, 0], n) + _scatter(
             j, (np.transpose(b, (0, 2, 1)) @ w)[:, :, 0], n
