@@ -10,7 +10,9 @@ failure (aborted, rejected, missed waypoints, unconfirmed initial pose), 2 on ba
 after Ctrl-C (which cancels the goal first).
 
 The client spins its executor (``--executor events``, the default, or ``single``) from the main
-thread until a future completes; its callbacks only record feedback and results.
+thread until a future completes; its callbacks only record feedback and results. Ctrl-C only sets a
+flag that the spin loop turns into KeyboardInterrupt between two spins: raised from the signal handler
+inside the C++ EventsExecutor, it could leave the executor hung and the goal never canceled.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import signal
 import sys
 import time
 from collections.abc import Sequence
@@ -92,6 +95,11 @@ class GoalRunner:
         self.executor = make_executor(executor)
         self.executor.add_node(self.node)
         self._last_status = 0.0
+        self._interrupted = False
+        signal.signal(signal.SIGINT, self._on_interrupt)
+
+    def _on_interrupt(self, signum: int, frame: Any) -> None:
+        self._interrupted = True
 
     def close(self) -> None:
         import rclpy
@@ -100,9 +108,13 @@ class GoalRunner:
         self.node.destroy_node()
         rclpy.try_shutdown()
 
-    def spin_until(self, done: Any, timeout: float | None = None) -> bool:
+    def spin_until(self, done: Any, timeout: float | None = None, interruptible: bool = True) -> bool:
+        """Spin until ``done()`` (True) or ``timeout`` s of wall time (False); KeyboardInterrupt after
+        Ctrl-C unless ``interruptible`` is False (the cancel that follows a Ctrl-C)."""
         deadline = None if timeout is None else time.monotonic() + timeout
         while not done():
+            if interruptible and self._interrupted:
+                raise KeyboardInterrupt
             if deadline is not None and time.monotonic() > deadline:
                 return False
             self.executor.spin_once(timeout_sec=0.05)
@@ -123,7 +135,7 @@ class GoalRunner:
         """
         from rclpy.action.client import ClientGoalHandle
 
-        self.spin_until(lambda: any(f.done() for f, _ in copies), CANCEL_TIMEOUT / 2)
+        self.spin_until(lambda: any(f.done() for f, _ in copies), CANCEL_TIMEOUT / 2, interruptible=False)
         handles, waits = [], []
         for future, goal_id in copies:
             if future.done():
@@ -134,7 +146,7 @@ class GoalRunner:
             assumed = action_type.Impl.SendGoalService.Response(accepted=True)
             handles.append(ClientGoalHandle(client, goal_id, assumed))
         waits += [handle.cancel_goal_async() for handle in handles]
-        self.spin_until(lambda: all(w.done() for w in waits), CANCEL_TIMEOUT)
+        self.spin_until(lambda: all(w.done() for w in waits), CANCEL_TIMEOUT, interruptible=False)
 
     def run_action(self, action_type: Any, name: str, goal: Any, describe: Any) -> tuple[int, Any]:
         """Send ``goal`` to ``name``; (GoalStatus, result) or raise on no server/rejection."""

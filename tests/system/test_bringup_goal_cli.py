@@ -66,7 +66,10 @@ def test_goto_prints_the_result_exits_by_outcome_and_ctrl_c_cancels(navigator):
     navigator.goals.clear()
     navigator.hold = True
     proc = start_python("nav_stack.ros.goal_cli", ["goto", "1.0", "0.0"])
-    wait_until(lambda: len(navigator.goals) == 1, 60.0, "the goal to arrive")
-    proc.send_signal(signal.SIGINT)
-    assert proc.wait(timeout=30) == 130
+    try:
+        wait_until(lambda: len(navigator.goals) == 1, 60.0, "the goal to arrive")
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=30) == 130
+    finally:
+        stop_process(proc)  # a failed test leaves no client behind
     assert navigator.canceled == 1

@@ -94,6 +94,19 @@ def _sim_seconds(duration: Any) -> float:
     return duration.sec + duration.nanosec * 1e-9
 
 
+# Free, mutually reachable spots of turtlebot3_world (m, map frame): the spawn, the upstream system
+# test's goal, the demo's first waypoint, the square between four pillars.
+FREE_SPOTS = ((-2.0, -0.5), (0.0, 2.0), (2.0, 0.0), (0.55, -0.55))
+
+
+def _farthest_spot(client: Client) -> tuple[float, float]:
+    """The free spot farthest from the robot: a goal that is sure to take a while, wherever the tests
+    sharing this module's stack have left the robot (pytest-xdist spreads them over workers, so a
+    test cannot rely on the ones before it having moved the robot away from the spawn)."""
+    pose = client.truth[-1].pose.pose.position
+    return max(FREE_SPOTS, key=lambda spot: math.hypot(spot[0] - pose.x, spot[1] - pose.y))
+
+
 def test_reaches_the_nav2_system_test_goal(client):
     response = client.result(client.send(nav_goal(0.0, 2.0)))
     assert response.status == GoalStatus.STATUS_SUCCEEDED, response.result.error_msg
@@ -118,7 +131,7 @@ def test_a_tree_with_an_unknown_node_is_refused(client, tmp_path):
 
 
 def test_a_new_goal_preempts_the_running_one(client):
-    first = client.send(nav_goal(-1.9, -0.5))
+    first = client.send(nav_goal(*_farthest_spot(client)))
     wait(lambda: len(client.feedback) > 5, 60.0, "feedback of the first goal")
     second = client.send(nav_goal(0.55, 1.5))
     first_result = client.result(first)
@@ -130,7 +143,7 @@ def test_a_new_goal_preempts_the_running_one(client):
 
 
 def test_cancel_stops_the_robot(client):
-    handle = client.send(nav_goal(-2.0, -0.5))
+    handle = client.send(nav_goal(*_farthest_spot(client)))
     wait(lambda: client.speed() > 0.05, 60.0, "the robot to move")
     cancel = handle.cancel_goal_async()
     wait(cancel.done, 30.0, "the cancel response")
