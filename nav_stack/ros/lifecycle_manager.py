@@ -21,6 +21,11 @@ the manager logs Nav2's CRITICAL FAILURE message, resets every other node, and (
 ``attempt_respawn_reconnection``) re-runs startup once all nodes answer again, for up to
 ``bond_respawn_max_duration``.
 
+A manager that itself did not run for a while (its bond check came more than ``MANAGER_STALL`` late:
+the process was starved of CPU, or another node of the same process held its thread) does not blame
+the nodes for the heartbeats it has not read yet: silence is then counted from the moment it resumed,
+so a loaded machine does not take a live stack down (Nav2 would; it has no such grace).
+
 Nothing blocks the executor: every service call is awaited inside a coroutine callback, and the
 waits use one-shot timers (steady clock: they are safety nets); commands run one at a time.
 """
@@ -50,6 +55,8 @@ from ros_tools.runtime.requests import SERVICE_RETRY_S, call_service
 from ros_tools.runtime.waiting import Serializer, sleep
 
 BOND_CHECK_PERIOD = 0.2  # s, Nav2's bond timer
+#: s between two bond checks beyond which the manager counts itself stalled (5 check periods)
+MANAGER_STALL = 1.0
 RESPAWN_CHECK_PERIOD = 1.0  # s
 SERVICE_POLL_PERIOD = 0.1  # s
 #: s before a change_state request is sent again: longer than a transition takes (a costmap's
@@ -104,6 +111,8 @@ class LifecycleManager(Node):
         self.system_active = False
         self.bringup_failed = False  # the last startup aborted (a node failed to configure or activate)
         self._heartbeats: dict[str, float] = {}  # node → steady time of its last active heartbeat
+        self._last_bond_check = self._steady_now()  # steady s
+        self._silence_counted_from = self._last_bond_check  # steady s: after the manager's last stall
         self._bonded: set[str] = set()
         self._broken: set[str] = set()
         self._get_state: dict[str, Client] = {}
@@ -264,7 +273,7 @@ class LifecycleManager(Node):
         if msg.id not in self._get_state:
             return
         if msg.active:
-            self._heartbeats[msg.id] = self._steady.now().nanoseconds * 1e-9
+            self._heartbeats[msg.id] = self._steady_now()
         elif msg.id in self._bonded:
             self._broken.add(msg.id)
 
@@ -277,7 +286,7 @@ class LifecycleManager(Node):
         timeout = self.params.bond_timeout
         if timeout <= 0.0 or name in self._bonded:
             return True
-        since = self._steady.now().nanoseconds * 1e-9
+        since = self._steady_now()
         deadline = time.monotonic() + timeout / 2.0
         while self._heartbeats.get(name, -1.0) < since - BOND_CHECK_PERIOD:
             if time.monotonic() > deadline:
@@ -290,15 +299,24 @@ class LifecycleManager(Node):
         self.get_logger().info(f"Server {name} connected with bond.")
         return True
 
+    def _steady_now(self) -> float:
+        return self._steady.now().nanoseconds * 1e-9
+
     async def _check_bonds(self) -> None:
+        now = self._steady_now()
+        if now - self._last_bond_check > MANAGER_STALL:
+            # this manager was stalled: heartbeats sent meanwhile may still wait unread in its queue
+            self._silence_counted_from = now
+        self._last_bond_check = now
         if not self.system_active or self.params.bond_timeout <= 0.0 or self._commands.busy:
             return
         await self._commands.run(self._recover_lost_bonds)
 
     async def _recover_lost_bonds(self) -> None:
-        now = self._steady.now().nanoseconds * 1e-9
+        now = self._steady_now()
         for name in self.params.node_names:
-            silent = now - self._heartbeats.get(name, now) > self.params.bond_timeout
+            last_heard = max(self._heartbeats.get(name, now), self._silence_counted_from)
+            silent = now - last_heard > self.params.bond_timeout
             if name in self._bonded and (silent or name in self._broken):
                 self._message(f"Have not received a heartbeat from {name}.")
                 self.get_logger().error(

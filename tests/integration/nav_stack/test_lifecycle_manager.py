@@ -7,6 +7,7 @@ single-threaded executor with the test, which also shows that its service calls 
 from __future__ import annotations
 
 import signal
+import time
 from collections.abc import Iterator
 from typing import Any
 
@@ -127,3 +128,19 @@ def test_bond_timeout_of_a_killed_node_brings_the_others_down(graph: Graph, capf
     assert f"CRITICAL FAILURE: SERVER {AMCL} IS DOWN after not receiving a heartbeat for 1000 ms" in log
     assert not graph.active()
     assert graph.map_server._state_machine.current_state[0] == UNCONFIGURED
+
+
+@pytest.mark.parametrize("graph", [1.0], indirect=True)
+def test_a_stalled_manager_does_not_blame_its_nodes(graph: Graph, capfd: Any) -> None:
+    """The process stops running for 2.5 bond timeouts (here: nobody spins its executor, as when the
+    machine is starved or another node's callback holds the thread). map_server, in the same process,
+    sent no heartbeat meanwhile and amcl's wait unread: on resuming, the manager gives them a whole
+    bond_timeout to be heard again instead of taking a live stack down."""
+    assert graph.command(Request.STARTUP) and graph.active()
+    capfd.readouterr()
+    time.sleep(2.5)  # s of wall time: the stall (the bond checks run on the steady clock)
+    deadline = time.monotonic() + 3.0
+    while time.monotonic() < deadline:
+        graph.executor.spin_once(timeout_sec=0.05)
+    assert "CRITICAL FAILURE" not in capfd.readouterr().err
+    assert graph.active() and graph.states() == (ACTIVE, ACTIVE)
