@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
@@ -37,6 +37,7 @@ READY_TIMEOUT = 300.0  # s (wall) for nav-bringup's readiness line
 SERVER_TIMEOUT = 60.0  # s (wall) for the action servers and /clock, once the stack is ready
 STOP_TIMEOUT = 60.0  # s (wall) nav-bringup may take to stop after SIGINT
 PLAN_ATTEMPTS = 200  # unplannable candidates in a row before the session gives up
+NEAR_DRAWS = 10_000  # candidates too near the robot before the session gives up
 
 
 def map_yaml(world: str) -> Path:
@@ -102,9 +103,11 @@ class Stack:
     """
 
     def __init__(self, world: str, robot: str, params: Path, rtf: str, lockstep: bool,
-                 client: str = "bench_navigation") -> None:
+                 client: str = "bench_navigation", extra: Sequence[str] = ()) -> None:
+        """``world``: a sim2d world name or file; ``extra``: more nav-bringup options (``--map``)."""
         self.command = [sys.executable, "-m", "nav_stack.ros.bringup", "--world", world, "--robot", robot,
-                        "--rtf", rtf, "--params", str(params), *([] if lockstep else ["--no-lockstep"])]
+                        "--rtf", rtf, "--params", str(params), *([] if lockstep else ["--no-lockstep"]),
+                        *extra]
         self.lockstep = lockstep
         self.client = client
         self.process: subprocess.Popen[str] | None = None
@@ -199,10 +202,11 @@ class GoalRun:
 
 def run_goals(driver: Driver, candidates: np.ndarray, rng: np.random.Generator, start: tuple[float, float],
               goals: int, speed: float, on_goal: Callable[[GoalRecord], None],
-              stop: Callable[[], bool] = lambda: False) -> GoalRun:
+              stop: Callable[[], bool] = lambda: False, min_distance: float = 0.5) -> GoalRun:
     """Drive ``goals`` random goals from ``start``; ``on_goal`` sees each one as it ends.
 
-    A goal is a random candidate (x, y) at least 0.5 m from the robot that the planner reaches, with
+    A goal is a random candidate (x, y) at least ``min_distance`` m (straight line) from the robot
+    that the planner reaches, with
     a random yaw. After a failure the next plan starts from the robot's true position; after 20
     candidates in a row that cannot be planned from there, from the last goal reached. ``stop`` is
     asked after each goal (e.g. Ctrl-C: finish the current goal, keep what was measured).
@@ -211,10 +215,14 @@ def run_goals(driver: Driver, candidates: np.ndarray, rng: np.random.Generator, 
     collisions0, sim0, wall0 = driver.collisions, driver.sim_time, time.monotonic()
     run = GoalRun()
     for index in range(goals):
-        attempts = 0
+        attempts = too_near = 0
         while True:
             x, y = candidates[rng.integers(len(candidates))]
-            if math.hypot(x - position[0], y - position[1]) < 0.5:
+            if math.hypot(x - position[0], y - position[1]) < min_distance:
+                too_near += 1
+                if too_near >= NEAR_DRAWS:
+                    raise RuntimeError(f"{NEAR_DRAWS} candidates in a row nearer than {min_distance} m "
+                                       f"to {position}")
                 continue
             length = driver.path_length(position, (x, y))
             if length is not None and length > 0.0:
