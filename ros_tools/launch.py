@@ -24,7 +24,7 @@ import sys
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
@@ -253,28 +253,36 @@ class Launcher:
         for running in self.running:
             running.proc.wait()
 
-    def run(self, specs: Sequence[ProcessSpec], until: Callable[[], bool] | None = None) -> int:
-        """Start, supervise and shut down; handles SIGINT/SIGTERM. Returns the launch's exit code."""
-        previous = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+    @contextlib.contextmanager
+    def stopping_on_signals(self) -> Iterator[threading.Event]:
+        """While inside, SIGINT and SIGTERM stop the launch (``stop``) instead of raising wherever the
+        main thread happens to be; the event yielded tells whether that happened. The previous
+        handlers come back on exit."""
         interrupted = threading.Event()
 
         def on_signal(signum: int, frame: object) -> None:
             interrupted.set()
             self.stop()
 
-        for sig in previous:
-            signal.signal(sig, on_signal)
+        previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
         try:
-            self.start(specs)
-            code = self.wait(until)
-        except LaunchError as error:
-            self.log(f"ERROR: {error}")
-            code = 130 if interrupted.is_set() else 1
+            yield interrupted
         finally:
-            self.log("shutting down")
-            self.shutdown()
             for sig, handler in previous.items():
                 signal.signal(sig, handler)
+
+    def run(self, specs: Sequence[ProcessSpec], until: Callable[[], bool] | None = None) -> int:
+        """Start, supervise and shut down; handles SIGINT/SIGTERM. Returns the launch's exit code."""
+        with self.stopping_on_signals() as interrupted:
+            try:
+                self.start(specs)
+                code = self.wait(until)
+            except LaunchError as error:
+                self.log(f"ERROR: {error}")
+                code = 130 if interrupted.is_set() else 1
+            finally:
+                self.log("shutting down")
+                self.shutdown()
         if interrupted.is_set():
             return 130 if code == 0 else code
         return code

@@ -214,34 +214,23 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
 
 def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None) -> int:
     """Start the specs, print READY_LINE, supervise; the launch's exit code (Launcher.run semantics)."""
-    import signal
-    import threading
-
     from ros_tools.launch import Launcher, LaunchError, default_log_dir, show_problems
 
     log_dir = args.log_dir or default_log_dir()
     launcher = Launcher(output=output, log_dir=log_dir, show=None if args.verbose else show_problems)
     if not args.verbose:
         launcher.log(f"every process logs to {log_dir}/<process>.log; --verbose shows it all here")
-    interrupted = threading.Event()
-
-    def on_signal(signum: int, frame: object) -> None:
-        interrupted.set()
-        launcher.stop()
-
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        launcher.start(process_specs(args))
-        (output or (lambda line: print(line, flush=True)))(READY_LINE)
-        code = launcher.wait()
-    except LaunchError as error:
-        launcher.log(f"ERROR: {error}")
-        code = 1
-    finally:
-        launcher.log("shutting down")
-        launcher.shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+    with launcher.stopping_on_signals() as interrupted:
+        try:
+            launcher.start(process_specs(args))
+            (output or (lambda line: print(line, flush=True)))(READY_LINE)
+            code = launcher.wait()
+        except LaunchError as error:
+            launcher.log(f"ERROR: {error}")
+            code = 1
+        finally:
+            launcher.log("shutting down")
+            launcher.shutdown()
     if interrupted.is_set():
         return 130 if code == 0 else code
     return code

@@ -1,0 +1,75 @@
+"""Run a list of scenarios on an executor and judge each: the part ``navsuite-scenarios`` and the pytest
+plugin share.
+
+Selection (``select``) and artifact layout (``<out>/<scenario name>/``) live here too, so the command
+and the plugin pick and store alike. Ctrl-C (KeyboardInterrupt in the waiting thread) cancels the
+executor: running workers get SIGTERM, queued ones never start, and their results say so.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, wait
+from dataclasses import replace
+from pathlib import Path
+
+from ros_tools.scenarios.executor import Executor, Job
+from ros_tools.scenarios.schema import Scenario
+from ros_tools.scenarios.summary import ScenarioResult
+from ros_tools.scenarios.verdict import Outcome, judge
+
+POLL = 0.5  # wall s between redraws of the live table while waiting
+
+
+def select(scenarios: Sequence[Scenario], patterns: Sequence[str]) -> list[Scenario]:
+    """Scenarios whose name contains one of ``patterns`` or matches it as a glob; all when none given."""
+    if not patterns:
+        return list(scenarios)
+    return [s for s in scenarios
+            if any(p in s.name or fnmatch.fnmatchcase(s.name, p) for p in patterns)]
+
+
+def run_all(scenarios: Sequence[Scenario], source: Path, out_dir: Path, executor: Executor,
+            on_start: Callable[[str], None] | None = None,
+            on_done: Callable[[ScenarioResult], None] | None = None,
+            tick: Callable[[], None] | None = None) -> list[ScenarioResult]:
+    """Submit every scenario, wait for all; results in the file's order. KeyboardInterrupt cancels the
+    rest, and is re-raised once every worker is down."""
+    futures: dict[Future[Outcome], Scenario] = {}
+    for scenario in scenarios:
+        job = Job(scenario, source, out_dir / scenario.name)
+        start = (lambda name=scenario.name: on_start(name)) if on_start is not None else None
+        futures[executor.submit(job, start)] = scenario
+    results: dict[str, ScenarioResult] = {}
+    pending = set(futures)
+    try:
+        while pending:
+            done, pending = wait(pending, timeout=POLL, return_when=FIRST_COMPLETED)
+            for future in done:
+                result = _judged(futures[future], future)
+                results[result.scenario.name] = result
+                if on_done is not None:
+                    on_done(result)
+            if tick is not None:
+                tick()
+    except KeyboardInterrupt:
+        executor.shutdown(cancel=True)
+        raise
+    executor.shutdown()
+    return [results[s.name] for s in scenarios]
+
+
+def _judged(scenario: Scenario, future: Future[Outcome]) -> ScenarioResult:
+    try:
+        outcome = future.result()
+    except Exception as error:  # a backend fault fails its scenario, never the farm
+        outcome = Outcome("ERROR", f"{type(error).__name__}: {error}")
+    if future.cancelled():
+        outcome = replace(outcome, result="ERROR", detail="cancelled")
+    return ScenarioResult(scenario, outcome, judge(scenario.expect, outcome, injected_events(scenario)))
+
+
+def injected_events(scenario: Scenario) -> int:
+    """Events applied at sim time by the injector (kidnaps); battery levels go in before the start."""
+    return sum(event.kind == "kidnap" for event in scenario.events)

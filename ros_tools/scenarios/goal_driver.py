@@ -1,0 +1,140 @@
+"""Send a list of NavigateToPose goals one after the other: the goal-list mission of the scenario farm.
+
+One process for the whole list, a lockstep participant (role ``scenario_goals``) that reports once
+the ``navigate_to_pose`` server is ready; the farm names the role in nav-bringup's ``--participant``
+list, so the simulator waits for it and sim time only passes while a goal is being driven (a process
+per goal would let the simulator run on between them, and the mission's sim time would measure
+process start-ups). It stops at the first goal that does not succeed.
+
+Lines (read by ros_tools.scenarios.outcome)::
+
+    goal 1: result: SUCCEEDED (error_code 0) in 12.30 s sim
+    goal 2: result: ABORTED (error_code 208): <error_msg> in 0.40 s sim
+    goals: 1 of 2 reached; sim 12.70 s
+
+Exit status 0 when every goal succeeded, 1 otherwise (2 on bad arguments).
+Usage: ``python -m ros_tools.scenarios.goal_driver '[[x, y, yaw], ...]' [--wait-for TOPIC]`` (map frame;
+m, m, rad).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any
+
+ROLE = "scenario_goals"
+WAIT_FOR_LIMIT = 20.0  # wall s the driver waits for a subscriber of its --wait-for topic
+ACK_SENDS = 10  # copies of a goal sent (1 s apart, steady clock) before the driver gives up
+STATUS_NAMES = {4: "SUCCEEDED", 5: "CANCELED", 6: "ABORTED"}  # action_msgs/GoalStatus
+
+
+def build_node(goals: list[tuple[float, float, float]], exit_code: list[int],
+               wait_for: str | None = None) -> Any:
+    """The driver node; ``exit_code[0]`` is set when the list is done, then the process stops itself.
+    With ``wait_for`` (a topic) it is ready only once that topic has a subscriber too (or after
+    WAIT_FOR_LIMIT wall s): a recorder that has not yet subscribed would miss the mission's start."""
+    from geometry_msgs.msg import PoseStamped
+    from nav2_msgs.action import NavigateToPose
+    from rclpy.node import Node
+
+    from ros_tools.runtime.actions import ActionClient, acknowledged
+    from ros_tools.runtime.coroutines import spawn, until
+    from ros_tools.runtime.waiting import steady_clock
+
+    node = Node("scenario_goals")
+    client = ActionClient(node, NavigateToPose, "navigate_to_pose")
+
+    def now_s() -> float:
+        return float(node.get_clock().now().nanoseconds) * 1e-9
+
+    async def drive() -> int:
+        started, reached = now_s(), 0
+        for index, (x, y, yaw) in enumerate(goals, 1):
+            pose = PoseStamped()
+            pose.header.frame_id = "map"
+            pose.pose.position.x, pose.pose.position.y = x, y
+            pose.pose.orientation.z, pose.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+            goal_start = now_s()
+            sent = await acknowledged(node, client, NavigateToPose.Goal(pose=pose), ACK_SENDS)
+            if sent is None or not sent.result().accepted:
+                print(f"goal {index}: result: REJECTED (error_code 0): not accepted in 0.00 s sim",
+                      flush=True)
+                break
+            answer = await until(sent.result().get_result_async())
+            status, result = answer.status, answer.result
+            why = f": {result.error_msg}" if result.error_msg else ""
+            print(f"goal {index}: result: {STATUS_NAMES.get(status, f'status {status}')} "
+                  f"(error_code {result.error_code}){why} in {now_s() - goal_start:.2f} s sim", flush=True)
+            if status != 4:
+                break
+            reached += 1
+        print(f"goals: {reached} of {len(goals)} reached; sim {now_s() - started:.2f} s", flush=True)
+        return 0 if reached == len(goals) else 1
+
+    def start() -> None:
+        if not client.server_is_ready() or now_s() <= 0.0:
+            return
+        timer.cancel()
+        spawn(node, drive()).add_done_callback(finish)
+
+    def finish(future: Any) -> None:
+        exit_code[0] = future.result() if future.exception() is None else 1
+        os.kill(os.getpid(), signal.SIGINT)  # the runner's orderly stop: leave lockstep, exit
+
+    timer = node.create_timer(0.1, start, clock=steady_clock())
+    give_up = time.monotonic() + WAIT_FOR_LIMIT
+
+    def ready() -> bool:
+        heard = wait_for is None or node.count_subscribers(wait_for) > 0 or time.monotonic() > give_up
+        return bool(client.server_is_ready()) and heard
+
+    node.scenario_ready = ready  # type: ignore[attr-defined]
+    return node
+
+
+def parse_goals(text: str) -> list[tuple[float, float, float]]:
+    """``[[x, y, yaw], ...]`` (yaw optional) → poses; ValueError naming the text otherwise."""
+    goals = json.loads(text)
+    if not isinstance(goals, list) or not goals:
+        raise ValueError(f"expected a JSON list of [x, y, yaw], got {text!r}")
+    poses = []
+    for goal in goals:
+        if not isinstance(goal, list) or len(goal) not in (2, 3):
+            raise ValueError(f"expected [x, y, yaw], got {goal!r}")
+        poses.append((float(goal[0]), float(goal[1]), float(goal[2]) if len(goal) == 3 else 0.0))
+    return poses
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    import argparse
+
+    from ros_tools.runtime.runner import run_nodes
+
+    parser = argparse.ArgumentParser(prog="goal_driver", description=__doc__.splitlines()[0])
+    parser.add_argument("goals", help="JSON list of [x, y, yaw] (map frame; m, m, rad)")
+    parser.add_argument("--wait-for", help="a topic that must have a subscriber before the first goal")
+    args = parser.parse_args(argv)
+    try:
+        goals = parse_goals(args.goals)
+    except ValueError as error:
+        parser.error(str(error))
+    exit_code = [1]
+    nodes: list[Any] = []
+
+    def build() -> list[Any]:
+        nodes.append(build_node(goals, exit_code, args.wait_for))
+        return nodes
+
+    run_nodes(build, role=ROLE, rclpy_args=["--ros-args", "-p", "use_sim_time:=true"],
+              ready=lambda: bool(nodes) and nodes[0].scenario_ready())
+    return exit_code[0]
+
+
+if __name__ == "__main__":
+    sys.exit(main())

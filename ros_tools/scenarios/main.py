@@ -1,0 +1,111 @@
+"""``navsuite-scenarios``: run a scenario file, each scenario isolated, and say which ones passed.
+
+Examples::
+
+    navsuite-scenarios run config/scenarios/seed_missions.yaml --workers 2
+    navsuite-scenarios run config/scenarios/seed_missions.yaml -k seed_nominal -k 'patrol_*'
+    navsuite-scenarios check config/scenarios/seed_missions.yaml     # validate and list, run nothing
+
+Each scenario runs as its own processes (the mission command, its stack, a recorder) on a ROS domain
+id claimed for it alone (``--domains``, default 51-100), localhost discovery, lockstep at ``--rtf max``.
+Its recording, run report and logs go to ``<out>/<scenario>/``; ``<out>/summary.html`` and
+``<out>/junit.xml`` sum the run up. Exit status: 0 when every selected scenario passed, 1 when one
+failed, 2 on an invalid file or arguments, 130 on Ctrl-C (every process of the run is stopped).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from ros_tools.scenarios import domains
+from ros_tools.scenarios.schema import Scenario, ScenarioError, load_scenarios
+
+REPO = Path(__file__).resolve().parents[2]
+EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="navsuite-scenarios", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    for name in ("run", "check"):
+        cmd = sub.add_parser(name, help="run the scenarios" if name == "run" else "validate and list them")
+        cmd.add_argument("file", type=Path, help="scenario YAML file")
+        cmd.add_argument("-k", dest="select", action="append", default=[], metavar="NAME",
+                         help="only scenarios whose name contains NAME or matches it as a glob (repeatable)")
+    run = sub.choices["run"]
+    run.add_argument("--workers", type=int, default=1, help="scenarios at a time (default 1)")
+    run.add_argument("--out", type=Path, default=None,
+                     help="output directory (default artifacts/scenarios/<file>-<UTC time>)")
+    run.add_argument("--domains", default=os.environ.get("NAVSUITE_SCENARIO_DOMAINS", domains.DEFAULT_TEXT),
+                     help="ROS_DOMAIN_ID range the runs claim from, FIRST-LAST (default "
+                          f"$NAVSUITE_SCENARIO_DOMAINS or {domains.DEFAULT_TEXT}; ids held by test sessions, "
+                          "benchmarks or other farms are skipped)")
+    options = parser.parse_args(argv)
+    if options.command == "run":
+        if options.workers < 1:
+            parser.error(f"--workers must be >= 1, got {options.workers}")
+        try:
+            options.domains = domains.parse_range(options.domains)
+        except ValueError as error:
+            parser.error(f"--domains: {error}")
+    return options
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    from ros_tools.scenarios.farm import select
+
+    options = parse_args(argv)
+    try:
+        scenarios = select(load_scenarios(options.file, REPO / "config"), options.select)
+    except ScenarioError as error:
+        print(f"navsuite-scenarios: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    if not scenarios:
+        print(f"navsuite-scenarios: no scenario of {options.file} matches {options.select}", file=sys.stderr)
+        return EXIT_USAGE
+    if options.command == "check":
+        for scenario in scenarios:
+            print(f"{scenario.name}: {type(scenario.mission).__name__} in {scenario.world}, "
+                  f"{len(scenario.events)} event(s)")
+        print(f"{len(scenarios)} scenario(s) valid")
+        return EXIT_OK
+    return run(options, scenarios)
+
+
+def run(options: argparse.Namespace, scenarios: list[Scenario]) -> int:
+    from ros_tools.scenarios.executor import LocalExecutor
+    from ros_tools.scenarios.farm import run_all
+    from ros_tools.scenarios.summary import write_summary
+    from ros_tools.scenarios.table import LiveTable
+
+    stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
+    out_dir = (options.out or Path("artifacts") / "scenarios" / f"{options.file.stem}-{stamp}").resolve()
+    table = LiveTable([s.name for s in scenarios], sys.stdout)
+    print(f"navsuite-scenarios: {len(scenarios)} scenario(s) from {options.file}, "
+          f"{options.workers} at a time, domains {options.domains[0]}-{options.domains[1]}; "
+          f"artifacts in {out_dir}/", flush=True)
+    executor = LocalExecutor(options.workers, domains.DomainPool(*options.domains))
+    started = time.monotonic()
+    try:
+        results = run_all(scenarios, options.file.resolve(), out_dir, executor, table.start,
+                          lambda r: table.finish(r.scenario.name, r.outcome, r.verdict), table.tick)
+    except KeyboardInterrupt:
+        print("navsuite-scenarios: interrupted; every scenario process was stopped", flush=True)
+        return EXIT_INTERRUPTED
+    wall = time.monotonic() - started
+    page, junit = write_summary(out_dir, options.file.stem, results, wall)
+    failed = [r for r in results if not r.verdict.passed]
+    print(f"{len(results) - len(failed)} passed, {len(failed)} failed in {wall:.0f} s wall "
+          f"({len(results) / wall * 3600:.0f} scenarios/h); summary {page}, JUnit {junit}", flush=True)
+    for result in failed:
+        print(f"FAILED {result.scenario.name}: {result.verdict.describe()}", flush=True)
+    return EXIT_FAILED if failed else EXIT_OK
+
+
+if __name__ == "__main__":
+    sys.exit(main())

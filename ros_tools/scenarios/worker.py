@@ -1,0 +1,184 @@
+"""Run one scenario in this process's children and write its ``result.json``: the farm's unit of work.
+
+``python -m ros_tools.scenarios.worker FILE NAME ARTIFACT_DIR`` runs scenario NAME of FILE on the
+ROS_DOMAIN_ID it was started with (the executor picks a free one). It starts the processes of
+``commands.plan`` through ros_tools.launch (each one's log in ``ARTIFACT_DIR/logs/<name>.log``): the
+recorder and the event injector when needed, then the mission command, or nav-bringup followed by
+the goal driver. It reads the mission's result from the command's lines, collisions
+and localization error from the recording, writes the run report PNG when the command did not, and
+writes ``result.json`` (a verdict.Outcome). Exit status 0 once the result is written, whatever it says.
+
+SIGINT or SIGTERM stops the run (the launcher's orderly shutdown: recorders close their files); every
+child also gets SIGTERM from the kernel if this process dies (ros_tools.launch's PR_SET_PDEATHSIG).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from ros_tools.launch import Launcher, LaunchError, ProcessSpec
+from ros_tools.scenarios import commands, outcome
+from ros_tools.scenarios.schema import Scenario, load_scenarios
+from ros_tools.scenarios.verdict import Outcome
+
+REPO = Path(__file__).resolve().parents[2]
+READY = r"Nav2 is ready"
+READY_TIMEOUT = 180.0  # wall s for nav-bringup's readiness line
+RESULT_FILE = "result.json"
+APPLIED = re.compile(r"^applied .*")
+#: sim2d's warning for a kidnap it did not apply ("teleport to <pose> refused: footprint overlaps ...")
+REFUSED = re.compile(r"teleport to .* refused")
+
+
+def record_spec(mcap: Path) -> ProcessSpec:
+    """navsuite-bag record of commands.RECORDED_TOPICS (a regex: a listed topic may never appear)."""
+    pattern = "^(" + "|".join(re.escape(topic) for topic in commands.RECORDED_TOPICS) + ")$"
+    return ProcessSpec("scenario-record", [*commands.executable("navsuite-bag"), "record", "-e", pattern,
+                                           "--use-sim-time", "-o", str(mcap)], required=False)
+
+
+def injector_spec(scenario: Scenario) -> ProcessSpec | None:
+    kidnaps = [{"at": e.at, "kidnap": e.value.as_list()} for e in scenario.events if e.kind == "kidnap"]
+    if not kidnaps:
+        return None
+    return ProcessSpec("scenario-events", [sys.executable, "-m", "ros_tools.scenarios.injector",
+                                           json.dumps(kidnaps)], required=False)
+
+
+def with_participant(plan: commands.RunPlan, role: str) -> commands.RunPlan:
+    """The plan with ``role`` among the lockstep participants the simulator waits for at start."""
+    from dataclasses import replace
+
+    if plan.stack is not None:
+        return replace(plan, stack=[*plan.stack, "--participant", role])
+    mission = list(plan.mission)
+    if "--bringup" in mission:  # navsuite-demo: the stack's command line is one argument
+        index = mission.index("--bringup") + 1
+        mission[index] = f"{mission[index]} --participant {role}"
+    else:  # sm-battery-patrol
+        mission += ["--bringup-arg=--participant", f"--bringup-arg={role}"]
+    return replace(plan, mission=mission)
+
+
+def run(scenario: Scenario, artifact_dir: Path) -> Outcome:
+    """Run ``scenario`` with its artifacts in ``artifact_dir``; the facts of the run."""
+    started = time.monotonic()
+    artifact_dir.mkdir(parents=True, exist_ok=True)
+    plan = commands.plan(scenario, artifact_dir, REPO)
+    for path, text in plan.files.items():
+        path.write_text(text, encoding="utf-8")
+    injector = injector_spec(scenario)
+    if injector is not None:
+        plan = with_participant(plan, "scenario_events")
+    launcher = Launcher(output=lambda line: print(line, flush=True), color=False,
+                        log_dir=artifact_dir / "logs", show=lambda _line: False)
+    deadline = started + scenario.timeout + commands.COMMAND_MARGIN
+    with launcher.stopping_on_signals() as interrupted:
+        try:
+            facts, code = _supervise(plan, launcher, [injector] if injector else [], deadline)
+            if interrupted.is_set():
+                facts, code = outcome.MissionFacts("ERROR", "interrupted (the farm was stopped)"), code
+        finally:
+            launcher.shutdown()
+    applied = _applied_events(artifact_dir / "logs")
+    return _finish(plan, facts, code, applied, time.monotonic() - started)
+
+
+def _supervise(plan: commands.RunPlan, launcher: Launcher, extra: list[ProcessSpec],
+               deadline: float) -> tuple[outcome.MissionFacts, int | None]:
+    """Start the plan's processes, wait for the mission's end; its facts and exit code."""
+    assert launcher.log_dir is not None
+    first = [record_spec(plan.mcap)] if plan.record else []
+    try:
+        if plan.stack is not None:
+            stack = ProcessSpec("scenario-stack", plan.stack, ready=READY, ready_timeout=READY_TIMEOUT)
+            launcher.start([stack])
+        launcher.start([*first, *extra])
+        launcher.start([ProcessSpec("scenario-mission", plan.mission)])
+    except LaunchError as error:
+        return outcome.MissionFacts("STACK", f"did not start: {error}"), None
+    launcher.wait(lambda: time.monotonic() > deadline)
+    mission = launcher.running[-1].proc
+    stopped = mission.poll() is None
+    launcher.shutdown()  # the mission's last lines and the recording's end are written by now
+    lines = _lines(launcher.log_dir / "scenario-mission.log")
+    if stopped:
+        return outcome.MissionFacts("TIMEOUT", "the farm stopped the run at its deadline"), None
+    if plan.kind == "tree":
+        return outcome.tree_facts(lines, mission.returncode), mission.returncode
+    if plan.kind == "goals":
+        return outcome.goal_facts(lines, mission.returncode), mission.returncode
+    return outcome.machine_facts(lines, mission.returncode), mission.returncode
+
+
+def _applied_events(logs: Path) -> tuple[str, ...]:
+    """The injector's "applied" lines, less the teleports sim2d refused (a pose inside an obstacle)."""
+    sent = [line for line in _lines(logs / "scenario-events.log") if APPLIED.match(line)]
+    refused = sum(REFUSED.search(line) is not None for line in _lines(logs / "sim2d.log"))
+    return tuple(sent[: max(0, len(sent) - refused)])
+
+
+def _finish(plan: commands.RunPlan, facts: outcome.MissionFacts, code: int | None,
+            applied: tuple[str, ...], wall: float) -> Outcome:
+    """Add the recording's numbers and the report to the mission's facts."""
+    from ros_tools.scenarios.metrics import measure
+
+    artifacts = {"logs": str(plan.report.parent / "logs")}
+    collisions = error = span = None
+    if plan.mcap.exists():
+        artifacts["mcap"] = str(plan.mcap)
+        try:
+            metrics = measure(plan.mcap)
+            collisions, error, span = metrics.collisions, metrics.max_localization_error, metrics.sim_span
+        except Exception as exc:  # a broken recording leaves the criteria "not measured", never a crash
+            print(f"[scenario] cannot read {plan.mcap}: {exc}", flush=True)
+        if not plan.report.exists():
+            _write_report(plan)
+    if plan.report.exists():
+        artifacts["report"] = str(plan.report)
+    sim_time = facts.sim_time if facts.sim_time is not None else span
+    return Outcome(facts.result, facts.detail, facts.final_state, facts.tag, facts.result_code, sim_time,
+                   collisions, error, code, wall, applied, artifacts)
+
+
+def _write_report(plan: commands.RunPlan) -> None:
+    from ros_tools.report.render import write_report
+
+    try:
+        write_report(plan.mcap, plan.report)
+    except Exception as exc:  # a report must never turn a finished run into an error
+        print(f"[scenario] no run report: {exc}", flush=True)
+
+
+def _lines(path: Path) -> list[str]:
+    try:
+        return path.read_text(encoding="utf-8", errors="replace").splitlines()
+    except OSError:
+        return []
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    if len(args) != 3:
+        print("usage: python -m ros_tools.scenarios.worker FILE NAME ARTIFACT_DIR", file=sys.stderr)
+        return 2
+    source, name, artifact_dir = Path(args[0]), args[1], Path(args[2])
+    scenario = next(s for s in load_scenarios(source, REPO / "config") if s.name == name)
+    result = Outcome("ERROR", "interrupted before the run ended")
+    try:
+        result = run(scenario, artifact_dir)
+    except Exception as error:  # the farm gets an ERROR result naming the fault, not a missing file
+        result = Outcome("ERROR", f"{type(error).__name__}: {error}")
+        raise
+    finally:
+        (artifact_dir / RESULT_FILE).write_text(json.dumps(result.to_json(), indent=2), encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,78 @@
+"""The scenario farm end to end: ``navsuite-scenarios run`` on config/scenarios/farm_selftest.yaml (two
+short scenarios that pass, one built to fail) with two workers, then the built-to-fail one through
+``pytest --scenarios``. Each scenario runs the real stack on its own claimed domain id (51-100, or
+$NAVSUITE_SCENARIO_DOMAINS; the same lock files as the test sessions'), so it never shares a DDS domain
+with the session running it.
+
+Checks: the verdicts, the failing criterion named in the console, JUnit and the pytest report, the
+artifacts (recording, run report), and that no process of the run survives it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from ros_tools.scenarios.executor import processes_with_env
+
+pytestmark = [pytest.mark.slow, pytest.mark.ros]
+REPO = Path(__file__).resolve().parents[2]
+SELFTEST = REPO / "config" / "scenarios" / "farm_selftest.yaml"
+FAILURE = "result: expected SUCCESS, got ABORT"
+TAG = "NAVSUITE_SCENARIO_TEST"
+
+
+def _tagged_env(tmp_path: Path) -> dict[str, str]:
+    """This test's environment plus a tag every process of its farm inherits: a farm that another
+    session runs on this machine at the same time does not carry it."""
+    return dict(os.environ, **{TAG: str(tmp_path)})
+
+
+def _left_behind(tmp_path: Path) -> list[int]:
+    """PIDs of live processes this test started (they carry its tag), the farm's included."""
+    return processes_with_env(f"{TAG}={tmp_path}")
+
+
+@pytest.mark.timeout(240)
+def test_the_farm_runs_scenarios_in_parallel_and_names_the_failing_criterion(tmp_path: Path) -> None:
+    out = tmp_path / "farm"
+    run = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SELFTEST),
+                          "--workers", "2", "--out", str(out)],
+                         cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=220)
+    console = run.stdout + run.stderr
+    assert run.returncode == 1, console  # one scenario fails, on purpose
+    verdicts = {name: json.loads((out / name / "result.json").read_text())["result"]
+                for name in ("short_goal", "unreachable_goal_aborts", "built_to_fail")}
+    assert verdicts == {"short_goal": "SUCCESS", "unreachable_goal_aborts": "ABORT", "built_to_fail": "ABORT"}
+    assert f"FAILED built_to_fail: {FAILURE}" in console
+    assert "2 passed, 1 failed" in console
+
+    cases = {case.get("name"): case for case in ET.parse(out / "junit.xml").getroot().iter("testcase")}
+    assert cases["short_goal"].find("failure") is None
+    assert cases["unreachable_goal_aborts"].find("failure") is None
+    failure = cases["built_to_fail"].find("failure")
+    assert failure is not None and failure.get("message", "").startswith(FAILURE)
+    assert (out / "short_goal" / "run.mcap").stat().st_size > 0
+    assert (out / "short_goal" / "report.png").exists()
+    assert 'src="short_goal/report.png"' in (out / "summary.html").read_text()
+    assert _left_behind(tmp_path) == []
+
+
+@pytest.mark.timeout(180)
+def test_pytest_scenarios_fails_the_built_to_fail_scenario_with_its_criterion(tmp_path: Path) -> None:
+    env = dict(_tagged_env(tmp_path), PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")  # the plugin may be installed
+    run = subprocess.run([sys.executable, "-m", "pytest", "-p", "ros_tools.scenarios.pytest_plugin",
+                          "-p", "no:cacheprovider", "--scenarios", str(SELFTEST), "-k", "built_to_fail",
+                          "--scenarios-out", str(tmp_path)],
+                         cwd=REPO, env=env, capture_output=True, text=True, timeout=170)
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert f"scenario built_to_fail failed:\n{FAILURE}" in run.stdout
+    assert "1 failed, 2 deselected" in run.stdout
+    assert _left_behind(tmp_path) == []
+
