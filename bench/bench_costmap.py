@@ -9,12 +9,17 @@
 * global incremental: the same map, one 360-beam scan into the obstacle layer; only the touched
   window (plus two inflation radii) is recomputed.
 
+Inflation runs compiled (inflation_jit), as the costmap nodes run it; the global updates are also
+timed with the numpy reference (inflation_layer.inflate) in the same run, and the ratio of the
+medians recorded, since absolute times follow the machine's load (noted in each row).
+
 Run: ``.venv/bin/python -m bench.bench_costmap`` (``--no-record`` to only print).
 """
 
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -27,6 +32,7 @@ from nav_stack.core.costmap import (
     ObstacleLayer,
     StaticLayer,
 )
+from nav_stack.core.costmap.inflation_layer import Inflate, inflate
 from nav_stack.core.grid import GridSpec
 
 
@@ -47,8 +53,11 @@ def ring_scan(radius: float) -> LaserScan:
     return LaserScan(ranges, 0.0, 2 * math.pi / 360, 0.12, 3.5)
 
 
-def main() -> None:
-    bench = Benchmark("costmap")
+def load_note(note: str = "") -> str:
+    return ", ".join(part for part in (note, f"load {os.getloadavg()[0]:.1f}") if part)
+
+
+def local_costmap(bench: Benchmark) -> None:
     local_params = CostmapParams.local_defaults()
     obstacle = ObstacleLayer(local_params)
     local = LayeredCostmap(local_params, [obstacle, InflationLayer()])
@@ -62,36 +71,51 @@ def main() -> None:
         local.update(pose)
 
     stats = bench.time("local costmap update per scan", local_update, repeat=200, warmup=10)
-    bench.record("local costmap update per scan (3x3 m, 360 beams, rolling)", stats, "ms", 1e3)
+    bench.record("local costmap update per scan (3x3 m, 360 beams, rolling)", stats, "ms", 1e3, load_note())
 
+
+def global_costmap(bench: Benchmark, inflation: Inflate | None, suffix: str = "") -> tuple[float, float]:
+    """Full and incremental updates of the 2000 x 2000 global costmap; their medians (s).
+
+    ``inflation``: None for the compiled inflation, or the reference; ``suffix`` names it in the rows.
+    """
     occ, spec = random_map(2000, 3000, seed=1)
     params = CostmapParams()
 
     def full_global() -> None:
-        costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
+        costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer(inflate=inflation)])
         costmap.set_map(occ, spec)
         costmap.update((50.0, 50.0, 0.0))
 
-    stats = bench.time("global 2000x2000 full inflation", full_global, repeat=10, warmup=1)
-    bench.record(
-        "global 2000x2000 full update (static + inflation 0.7 m)",
-        stats,
-        "ms",
-        1e3,
-        note=f"{int((occ == 100).mean() * 100)} % lethal cells",
-    )
+    full = bench.time(f"global 2000x2000 full inflation{suffix}", full_global, repeat=10, warmup=1)
+    lethal = f"{int((occ == 100).mean() * 100)} % lethal cells"
+    bench.record(f"global 2000x2000 full update (static + inflation 0.7 m){suffix}", full, "ms", 1e3,
+                 load_note(lethal))
 
     g_obstacle = ObstacleLayer(params)
-    costmap = LayeredCostmap(params, [StaticLayer(params), g_obstacle, InflationLayer()])
+    costmap = LayeredCostmap(params, [StaticLayer(params), g_obstacle, InflationLayer(inflate=inflation)])
     costmap.set_map(occ, spec)
     costmap.update((50.0, 50.0, 0.0))
+    scan = ring_scan(1.2)
 
     def incremental() -> None:
         g_obstacle.add_scan(scan, (50.0, 50.0, 0.0))
         costmap.update((50.0, 50.0, 0.0))
 
-    stats = bench.time("global 2000x2000 incremental scan update", incremental, repeat=50, warmup=3)
-    bench.record("global 2000x2000 incremental update per scan (static+obstacle+inflation)", stats, "ms", 1e3)
+    inc = bench.time(f"global 2000x2000 incremental scan update{suffix}", incremental, repeat=50, warmup=3)
+    bench.record(f"global 2000x2000 incremental update per scan (static+obstacle+inflation){suffix}", inc,
+                 "ms", 1e3, load_note())
+    return full.median, inc.median
+
+
+def main() -> None:
+    bench = Benchmark("costmap")
+    local_costmap(bench)
+    compiled = global_costmap(bench, None)
+    reference = global_costmap(bench, inflate, ", numpy reference inflation")
+    for update, ref, fast in zip(("full update", "incremental update"), reference, compiled, strict=True):
+        bench.record_value(f"global 2000x2000 {update}: reference / compiled (medians)", ref / fast, "x",
+                           "same map, same run")
     bench.save()
 
 
