@@ -4,7 +4,8 @@
 #   2. create .venv and install the project with its dev and interface-build groups
 #      (only when pyproject.toml changed since the last install);
 #   3. build the ROS interface packages under interfaces/ into .venv, or restore them
-#      from the cache (~/.cache/navsuite/interfaces/<hash>) when interfaces/ is unchanged.
+#      from the cache (~/.cache/navsuite/interfaces/<hash>) when interfaces/ is unchanged;
+#   4. compile the numba kernels into their __pycache__ (scripts/compile_kernels.py).
 # A second run with nothing changed takes a few seconds and rebuilds nothing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -62,6 +63,9 @@ if [ "$(cat "$deps_stamp" 2>/dev/null)" != "$deps_key" ]; then
 fi
 
 "$VENV/bin/python" scripts/build_interfaces.py --venv "$VENV"
+
+# numba's machine code for the planners and the costmap, compiled now rather than inside a stack.
+"$VENV/bin/python" scripts/compile_kernels.py
 
 # The viewer's browser test drives the system's Chromium (never a downloaded browser).
 if [ "$WITH_BROWSER" = 1 ] && ! command -v chromium >/dev/null 2>&1; then

@@ -1,0 +1,35 @@
+"""Compile the numba kernels once, at setup, into their ``__pycache__`` (``@njit(cache=True)``).
+
+Why at setup: on a fresh checkout the first process to build a planner or a costmap compiles its
+kernels, which takes seconds (more on a loaded machine). Inside a running stack that is seconds in
+which a node's lifecycle transition, and on a busy CI machine a test's readiness wait, stand still.
+Done here, every later process only loads the cached machine code (well under a second). When the
+cache is current this takes about a second; numba recompiles by itself when a kernel's source changes.
+
+Usage: .venv/bin/python scripts/compile_kernels.py
+"""
+
+from __future__ import annotations
+
+import time
+
+from nav_stack.core.costmap import inflation_jit
+from nav_stack.core.planning import grid_search_jit, theta_star_jit
+
+KERNELS = {
+    "grid search (NavFn A*/Dijkstra)": grid_search_jit.warm_up,
+    "Theta*": theta_star_jit.warm_up,
+    "costmap inflation": inflation_jit.warm_up,
+}
+
+
+def main() -> int:
+    started = time.monotonic()
+    for warm_up in KERNELS.values():
+        warm_up()
+    print(f"setup: compiled kernels ready ({', '.join(KERNELS)}) in {time.monotonic() - started:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
