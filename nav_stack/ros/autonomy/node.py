@@ -269,14 +269,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until ``max_cycles`` or Ctrl-C; exit 2 with one line on a configuration error."""
     args, executor_kind = _ros_args(sys.argv[1:] if argv is None else argv)
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.signals import SignalHandlerOptions
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.runtime.executor import make_executor
     from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
-    from ros_tools.runtime.runner import destroy_nodes
+    from ros_tools.runtime.runner import destroy_nodes, spin_until_shutdown
 
-    rclpy.init(args=args)
+    # Ctrl-C and SIGTERM are the spin loop's (spin_until_shutdown), so the context is still alive
+    # in the teardown: the running goal is cancelled and the node leaves lockstep. With rclpy's own
+    # handlers, a SIGTERM shut the context down first and the process once spun on for an hour.
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node: AutonomyNode | None = None
     participant: LockstepParticipant | None = None
     executor = make_executor(executor_kind)
@@ -288,12 +291,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_CONFIG
         executor.add_node(node)
         participant = LockstepParticipant(node, "autonomy") if uses_sim_time(node) else None
-        # The run may end by itself (max_cycles), which the runner's spin-until-shutdown cannot
-        # express: the main thread spins until the node says it finished (no callback ever waits).
-        while rclpy.ok() and not node.finished:
-            executor.spin_once(timeout_sec=0.1)
+        # The run may also end by itself (max_cycles): the node then says it finished.
+        spin_until_shutdown(executor, "autonomy", stopped=lambda: node is not None and node.finished)
         return 0
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except KeyboardInterrupt:
         return 0
     finally:
         if node is not None and rclpy.ok():

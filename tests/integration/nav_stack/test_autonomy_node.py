@@ -3,6 +3,7 @@ scripted /battery_state), two full cycles in the seed's order, cancel on halt, a
 
 from __future__ import annotations
 
+import signal
 import subprocess
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -23,7 +24,7 @@ from nav_stack.core.bt import NodeStatus
 from nav_stack.ros.autonomy.locations import load_locations, nearest_location
 from nav_stack.ros.autonomy.node import AutonomyNode
 from ros_tools.runtime.executor import make_executor
-from tests.helpers.ros import REPO, spin_until, start_python
+from tests.helpers.ros import REPO, spin_until, start_python, wait_until
 from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
 
 pytestmark = pytest.mark.ros
@@ -179,3 +180,25 @@ def test_main_ends_by_itself_after_max_cycles(ros_context):
     assert "cycle 1: root FAILURE at 'check_battery4'" in result.stdout, result.stdout
     assert "finished 1 cycles; visited: location1, location2, location3, location4" in result.stdout
     assert "Traceback" not in result.stdout, result.stdout
+
+
+def test_sigterm_cancels_the_running_goal_and_exits(ros_context):
+    """A launcher stops the node with SIGTERM in the middle of a goal: the goal is cancelled and the
+    process exits 0 (with rclpy's own handlers the context shut down first, and one such process
+    spun on for an hour)."""
+    fake = FakeNav2(ros_context, clock_rate=20.0, frozen=True).start()  # the goal never completes
+    args = ["--ros-args", "-p", "battery_source:=counter", "-p", "use_sim_time:=true",
+            "-p", "server_timeout:=30.0", "-p", f"tree_file:={V3}"]
+    proc = start_python("nav_stack.ros.autonomy.node", args)
+    try:
+        wait_until(lambda: bool(fake.logs["navigate_to_pose"].goals), 60.0, "the first goal")
+        proc.send_signal(signal.SIGTERM)
+        out, _ = proc.communicate(timeout=30)
+        assert proc.returncode == 0, out
+        wait_until(lambda: fake.logs["navigate_to_pose"].cancels >= 1, 10.0, "the goal's cancel")
+        assert "Traceback" not in out, out
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        fake.stop()
