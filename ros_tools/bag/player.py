@@ -82,12 +82,14 @@ class Player:
     """Publishers for the recorded topics on an injected node, and the timed replay loop."""
 
     def __init__(self, node: Node, reader: BagReader, options: PlayOptions,
-                 wait: Callable[[float], None]) -> None:
-        """``wait(seconds)`` must let at most that much wall time pass (e.g. spin with a timeout)."""
+                 wait: Callable[[float], None], now: Callable[[], float] = time.monotonic) -> None:
+        """``wait(seconds)`` must let at most that much wall time pass (e.g. spin with a timeout);
+        ``now()`` is the wall clock in s the replay is paced by (a test passes its own)."""
         self._node = node
         self._reader = reader
         self._options = options
         self._wait = wait
+        self._now = now
         chosen = reader.check_topics(options.topics) if options.topics else list(reader.topics)
         if options.clock_hz > 0:
             chosen = [topic for topic in chosen if topic != CLOCK_TOPIC]
@@ -128,13 +130,13 @@ class Player:
         """Replay the whole recording once, in real time scaled by ``rate``."""
         rate, start_ns = self._options.rate, self._reader.start_ns
         clock_period = 1.0 / self._options.clock_hz if self._options.clock_hz > 0 else None
-        wall_start = time.monotonic()
+        wall_start = self._now()
         next_clock = wall_start
         self.bag_now_ns = start_ns
         self._publish_clock(start_ns)
         for item in self._reader.messages(self.topics):
             due = wall_start + (item.log_time - start_ns) / 1e9 / rate
-            while (now := time.monotonic()) < due:
+            while (now := self._now()) < due:
                 if clock_period is not None and now >= next_clock:
                     self._publish_clock(start_ns + int((now - wall_start) * rate * 1e9))
                     next_clock = now + clock_period
