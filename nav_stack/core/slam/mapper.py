@@ -4,8 +4,10 @@ with a pose graph, and render a log-odds occupancy map in the map frame.
 Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_heading`` of motion):
 
 1. predict the robot pose in the map as ``map_to_odom ∘ odom``;
-2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) with the
-   correlative matcher around the prediction; a weak response keeps the prediction;
+2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) and the map
+   with the correlative matcher around the prediction, then refine the pose on a finer grid of
+   the exact returns of the buffer and of the scans within ``refine_scan_distance``, joined into
+   lines; a weak response keeps the prediction;
 3. add a pose-graph node with a sequential edge, and fold the scan into the log-odds grid;
 4. look for a loop closure against the nearest older, unlinked scan chain, within a window as wide
    as the graph's drift between the chain and the new scan (loop_closure.py); a match with strong
@@ -29,7 +31,7 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import FloatArray, Pose2D, compose, to_frame
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
-from nav_stack.core.slam.laser import ScanPoints, scan_points
+from nav_stack.core.slam.laser import ScanPoints, densify, scan_points, to_map
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.loop_closure import candidate_chains, graph_hops, search_half_extent, verified
 from nav_stack.core.slam.params import SlamParams
@@ -41,6 +43,10 @@ IDENTITY = Pose2D(0.0, 0.0, 0.0)
 _MIN_LINK_RESPONSE = 0.1
 # Fewer usable reference or scan points than this make a match meaningless.
 _MIN_MATCH_POINTS = 20
+# Neighbouring returns closer than this (m) lie on one surface and are joined for the refinement.
+_JOIN_GAP = 0.15
+# At most this many scans near the robot (besides the running buffer) are refined against.
+_MAX_REFINE_NODES = 30
 
 
 def between(a: Pose2D, b: Pose2D) -> Pose2D:
@@ -52,6 +58,18 @@ def between(a: Pose2D, b: Pose2D) -> Pose2D:
 def inverse(a: Pose2D) -> Pose2D:
     """The inverse transform a⁻¹."""
     return between(a, IDENTITY)
+
+
+def loop_information(covariance: FloatArray, yaw: float) -> FloatArray:
+    """Information of a loop edge anchor → j from the covariance (map frame) of j's matched pose.
+
+    The edge error t2v(Z⁻¹ Xi⁻¹ Xj) moves with Xj in Xj's own frame, so the covariance is rotated
+    by node j's ``yaw`` (rad) before it is inverted. (Rotating by the anchor's yaw, as before,
+    swapped the along- and across-corridor variances of a closure made at a right angle.)
+    """
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return np.asarray(np.linalg.inv(rot.T @ covariance @ rot), dtype=np.float64)
 
 
 @dataclass(frozen=True)
@@ -88,6 +106,7 @@ class GridSlam:
         self._poses: FloatArray = np.zeros((0, 3))
         self._odom: list[Pose2D] = []
         self._scans: list[ScanPoints] = []
+        self._dense: list[FloatArray] = []  # hits of each scan joined into lines (robot frame)
         self._adjacency: list[list[int]] = []
         self._edges: list[Edge] = []
         self._stamp = -math.inf
@@ -191,6 +210,7 @@ class GridSlam:
         self._poses = np.vstack((self._poses, np.array([pose], dtype=np.float64)))
         self._odom.append(odom_pose)
         self._scans.append(points)
+        self._dense.append(densify(points.hits, 0.5 * self.params.refine_resolution, _JOIN_GAP))
         self._adjacency.append([])
         if index > 0:
             prev = self._poses[index - 1]
@@ -211,7 +231,13 @@ class GridSlam:
         self._adjacency[j].append(i)
 
     def _hits_in_map(self, indices: list[int]) -> FloatArray:
-        parts = [self._scans[k].in_map(Pose2D(*self._poses[k]))[1] for k in indices]
+        parts = [to_map(self._scans[k].hits, Pose2D(*self._poses[k])) for k in indices]
+        return np.vstack(parts) if parts else np.zeros((0, 2))
+
+    def _dense_hits_in_map(self, indices: list[int]) -> FloatArray:
+        """Hits of the scans ``indices`` in the map with neighbouring returns joined (laser.densify):
+        the exact reference of the fine refinement."""
+        parts = [to_map(self._dense[k], Pose2D(*self._poses[k])) for k in indices]
         return np.vstack(parts) if parts else np.zeros((0, 2))
 
     def _subsample(self, hits: FloatArray) -> FloatArray:
@@ -219,7 +245,12 @@ class GridSlam:
         return hits[::step]
 
     def _match(
-        self, reference: FloatArray, hits: FloatArray, prior: Pose2D, window: SearchWindow
+        self,
+        reference: FloatArray,
+        hits: FloatArray,
+        prior: Pose2D,
+        window: SearchWindow,
+        fine_reference: FloatArray | None = None,
     ) -> MatchResult | None:
         if len(reference) < _MIN_MATCH_POINTS or len(hits) < _MIN_MATCH_POINTS:
             return None
@@ -228,7 +259,17 @@ class GridSlam:
         grid = CorrelationGrid(
             reference, (prior.x, prior.y), half, p.resolution, p.correlation_search_space_smear_deviation
         )
-        return match(grid, self._subsample(hits), prior, window)
+        fine = None
+        if window.refine_iterations > 0:
+            fine_half = p.max_laser_range + window.half_extent + 3.0 * p.refine_smear_deviation
+            fine = CorrelationGrid(
+                reference if fine_reference is None else fine_reference,
+                (prior.x, prior.y),
+                fine_half,
+                p.refine_resolution,
+                p.refine_smear_deviation,
+            )
+        return match(grid, self._subsample(hits), prior, window, fine)
 
     def _match_running_buffer(self, points: ScanPoints, predicted: Pose2D) -> MatchResult | None:
         p = self.params
@@ -246,7 +287,11 @@ class GridSlam:
             half = p.max_laser_range + self._link_window.half_extent
             near = self._grid.occupied_points((predicted.x, predicted.y), half, p.occupied_thresh)
             reference = np.vstack((reference, near))
-        return self._match(reference, points.hits, predicted, self._link_window)
+        d = np.hypot(self._poses[:, 0] - predicted.x, self._poses[:, 1] - predicted.y)
+        close = np.argsort(d)[:_MAX_REFINE_NODES]
+        close = close[d[close] <= p.refine_scan_distance]
+        fine_reference = self._dense_hits_in_map(sorted(set(close.tolist()) | set(buffer)))
+        return self._match(reference, points.hits, predicted, self._link_window, fine_reference)
 
     def _try_loop_closure(self) -> bool:
         """Match the newest scan against the nearest unlinked chain within the graph's uncertainty;
@@ -269,7 +314,9 @@ class GridSlam:
         prior = Pose2D(*self._poses[current])
         half = search_half_extent(graph_hops(self._adjacency, current, chain), p)
         window = replace(self._loop_window, half_extent=half)
-        result = self._match(self._hits_in_map(chain), self._scans[current].hits, prior, window)
+        result = self._match(
+            self._hits_in_map(chain), self._scans[current].hits, prior, window, self._dense_hits_in_map(chain)
+        )
         if result is None or not verified(result, p):
             self.loop_closures_rejected += result is not None
             return False
@@ -279,7 +326,7 @@ class GridSlam:
             anchor,
             current,
             between(Pose2D(*self._poses[anchor]), result.pose),
-            self._loop_information(result, float(self._poses[anchor, 2])),
+            loop_information(result.covariance, result.pose.yaw),
         )
         optimized = optimize(
             self._poses, self._edges, p.optimizer_max_iterations, kernel_width=p.loop_robust_kernel_width
@@ -291,12 +338,6 @@ class GridSlam:
         self.loop_closures += 1
         self._last_closure = current
         return True
-
-    def _loop_information(self, result: MatchResult, anchor_yaw: float) -> FloatArray:
-        """Information of a loop edge: the inverse match covariance, rotated into the anchor's frame."""
-        c, s = math.cos(anchor_yaw), math.sin(anchor_yaw)
-        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        return np.asarray(np.linalg.inv(rot.T @ result.covariance @ rot), dtype=np.float64)
 
     def _rebuild_map(self) -> None:
         self._grid.clear()

@@ -45,8 +45,16 @@ class SlamParams:
         distance_variance_penalty / angle_variance_penalty: how fast the response is penalised
             for moving away from the odometry prediction (m², rad²); minimum_distance_penalty /
             minimum_angle_penalty: floors of those multiplicative penalties.
-        refine_iterations: Gauss-Newton steps on the bilinear-interpolated smear after the grid
+        refine_iterations: pattern-search steps on the bilinear-interpolated smear after the grid
             search (0 disables sub-cell refinement).
+        refine_resolution / refine_smear_deviation: cell size (m) and smear σ (m) of the finer
+            grid of the same reference points the refinement runs on. The search grid (map
+            resolution, σ 0.1 m) is flat within a few cm, which lets the pose wander along
+            corridors; slam_toolbox searches on a 0.01 m grid for the same reason.
+        refine_scan_distance: scans of the graph within this distance (m) of the prediction (the
+            nearest 30) join the running buffer as the refinement's reference, their returns
+            joined into lines: exact points, where the map's occupied cells are quantised to
+            whole cells and two or three cells thick.
         max_scan_points: beams kept for matching (evenly subsampled; bounds the cost).
 
     Loop closure:
@@ -97,7 +105,10 @@ class SlamParams:
     angle_variance_penalty: float = 1.0
     minimum_distance_penalty: float = 0.5
     minimum_angle_penalty: float = 0.9
-    refine_iterations: int = 5
+    refine_iterations: int = 14
+    refine_resolution: float = 0.02
+    refine_smear_deviation: float = 0.03
+    refine_scan_distance: float = 0.5
     max_scan_points: int = 360
 
     do_loop_closing: bool = True
@@ -130,6 +141,8 @@ class SlamParams:
             "max_laser_range",
             "correlation_search_space_dimension",
             "correlation_search_space_smear_deviation",
+            "refine_resolution",
+            "refine_smear_deviation",
             "coarse_angle_resolution",
             "fine_search_angle_offset",
             "distance_variance_penalty",

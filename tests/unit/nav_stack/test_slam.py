@@ -229,11 +229,12 @@ def test_slam_tracks_the_robot_through_drifting_odometry_and_maps_the_room() -> 
 
 
 def test_matching_against_the_map_holds_the_frame_where_scan_to_scan_drifts() -> None:
-    """One-scan buffer, no loop closure: scan-to-scan matching alone drifts (0.33 m at seed 1); with
-    the map as a reference as well the error stays near 0.1 m."""
+    """One-scan buffer, no loop closure, no sub-cell refinement: scan-to-scan matching on the search
+    grid alone drifts (0.33 m at seed 1); with the map as a reference as well the error stays near
+    0.1 m. (The fine refinement, tested in test_slam_refinement.py, holds it tighter still.)"""
     def worst_error(against_map: bool) -> float:
         params = SlamParams(map_start_pose=(START.x, START.y, START.yaw), match_against_map=against_map,
-                            scan_buffer_size=1, do_loop_closing=False)
+                            scan_buffer_size=1, do_loop_closing=False, refine_iterations=0)
         return max(run_trajectory(params, seed=1)[1])
 
     assert worst_error(against_map=False) > 0.25

@@ -55,6 +55,6 @@ def test_loop_closure_reduces_the_error_after_a_lap() -> None:
             error_after = error
             break
     assert closed_at is not None and slam.loop_closures >= 1
-    assert error_before > 0.1  # scan matching alone drifts along the featureless corridors
+    assert error_before > 0.04  # scan matching alone drifts along the featureless corridors
     assert error_after < 0.5 * error_before
     assert tuple(slam.poses[0]) == (START.x, START.y, START.yaw)  # the anchor (map frame) never moves
