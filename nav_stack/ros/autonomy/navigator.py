@@ -45,6 +45,7 @@ class RosNavGoal:
         self._detail = ""
         self._handle: Any = None
         self._cancel_requested = False
+        self._cancel_future: Any = None  # the cancel request's response, once one was sent
 
     def outcome(self) -> NavOutcome | None:
         with self._lock:
@@ -59,7 +60,20 @@ class RosNavGoal:
             self._cancel_requested = True
             handle = self._handle if self._outcome is None else None
         if handle is not None:
-            handle.cancel_goal_async()
+            self._send_cancel(handle)
+
+    def _send_cancel(self, handle: Any) -> None:
+        future = handle.cancel_goal_async()
+        with self._lock:
+            self._cancel_future = future
+
+    def cancel_answered(self) -> bool:
+        """No cancel is still on its way: sent and unanswered, or asked for before the server
+        acknowledged the goal (it is sent with the acknowledgement)."""
+        with self._lock:
+            if self._cancel_future is not None:
+                return bool(self._cancel_future.done())
+            return not (self._cancel_requested and self._handle is None and self._outcome is None)
 
     def _finish(self, outcome: NavOutcome, detail: str = "") -> None:
         with self._lock:
@@ -80,7 +94,7 @@ class RosNavGoal:
             cancel = self._cancel_requested
         handle.get_result_async().add_done_callback(self._on_result)
         if cancel:
-            handle.cancel_goal_async()
+            self._send_cancel(handle)
 
     def _on_result(self, future: Any) -> None:
         response = future.result()
@@ -103,6 +117,7 @@ class RosNavigator:
         self.action_name = action_name
         self.frame = frame
         self._client = ActionClient(node, NavigateToPose, action_name, callback_group=callback_group)
+        self._goals: list[RosNavGoal] = []  # sent and not yet ended (or with a cancel in flight)
 
     def server_ready(self) -> bool:
         return bool(self._client.server_is_ready())
@@ -112,7 +127,13 @@ class RosNavigator:
         stamp = self.node.get_clock().now().to_msg()
         pose = pose_stamped(location.x, location.y, location.theta, self.frame, stamp)
         spawn(self.node, self._send(goal, NavigateToPose.Goal(pose=pose)))
+        self._goals = [g for g in self._goals if g.outcome() is None or not g.cancel_answered()] + [goal]
         return goal
+
+    def cancels_answered(self) -> bool:
+        """Every cancel sent for this navigator's goals has its answer: the server has it, so the
+        process may exit (a request still in this process's DDS queue dies with it)."""
+        return all(goal.cancel_answered() for goal in self._goals)
 
     async def _send(self, goal: RosNavGoal, request: NavigateToPose.Goal) -> None:
         answer = await acknowledged(self.node, self._client, request, SENDS,

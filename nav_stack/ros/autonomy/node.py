@@ -50,6 +50,7 @@ from ros_tools.runtime.executor import add_executor_argument
 REPO = Path(__file__).resolve().parents[3]
 BATTERY_SOURCES = ("topic", "counter")
 EXIT_CONFIG = 2
+CANCEL_ANSWER_WAIT = 2.0  # wall s the teardown waits for the server to answer the running goal's cancel
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -299,6 +300,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if node is not None and rclpy.ok():
             node.stop()  # halt first: a running goal is cancelled while its client still exists
+            deadline = time.monotonic() + CANCEL_ANSWER_WAIT
+            while not node.navigator.cancels_answered() and time.monotonic() < deadline:
+                executor.spin_once(timeout_sec=0.05)
         if participant is not None and rclpy.ok():
             participant.destroy()
         executor.shutdown()
