@@ -43,6 +43,10 @@ CLOCK_TOPIC = "/clock"
 PROGRESS_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
+#: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 5 s)
+REQUEST_HOLD = 2.0
+
+_PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
 
 
 def participant_name(role: str) -> str:
@@ -77,6 +81,8 @@ class LockstepParticipant:
         self._holds_lock = threading.Lock()  # hold() may come from another thread than /clock's
         self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
+        self._destroyed = False
+        _PROCESS_PARTICIPANTS.append(self)
 
     @property
     def reported_ns(self) -> int:
@@ -84,6 +90,8 @@ class LockstepParticipant:
         return self._last_report_ns
 
     def _on_clock(self, msg: Clock) -> None:
+        if self._destroyed:  # a /clock the executor had queued before destroy()
+            return
         now = msg.clock.sec * 1_000_000_000 + msg.clock.nanosec
         repeated = now <= self._last_clock_ns  # the simulator re-sends its time while it waits
         self._last_clock_ns = now
@@ -135,9 +143,25 @@ class LockstepParticipant:
 
     def destroy(self) -> None:
         """Leave, then destroy the subscription and the publisher."""
+        if self in _PROCESS_PARTICIPANTS:
+            _PROCESS_PARTICIPANTS.remove(self)
         self.leave()
+        self._destroyed = True
         self.node.destroy_subscription(self._sub)
         self.node.destroy_publisher(self._pub)
+
+
+def hold_process(until: Callable[[], bool], grace: float = REQUEST_HOLD) -> None:
+    """Hold this process's participants (:meth:`LockstepParticipant.hold`); nothing outside lockstep.
+
+    For a request whose answer a sim-time deadline waits for, sent from deep inside a node that does
+    not know the participant (a behavior-tree leaf's goal and its ``server_timeout`` in ms of sim
+    time): until the answer is back, the simulator does not run on by the wall time the request
+    spends in DDS, so the timeout is decided by sim time, not by the machine's load (CI run BJ: a
+    loaded run timed out after "1000 ms" waiting for an acknowledgement).
+    """
+    for participant in list(_PROCESS_PARTICIPANTS):
+        participant.hold(until, grace)
 
 
 def _released(until: Callable[[], bool]) -> bool:

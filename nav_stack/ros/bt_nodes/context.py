@@ -31,6 +31,7 @@ from rclpy.client import Client
 from rclpy.node import Node
 
 from nav_stack.ros.frames import Frames
+from ros_tools.runtime.lockstep import hold_process
 
 
 @dataclass(frozen=True)
@@ -77,6 +78,11 @@ class BtRosContext:
         self.global_frame = "map"
         self.robot_base_frame = "base_link"
         self.transform_tolerance = 0.1  # s
+
+    def hold_lockstep(self, until: Callable[[], bool]) -> None:
+        """Keep a lockstep simulator from stepping on until ``until()`` (bounded in wall time): for a
+        request whose sim-time ``server_timeout`` must not race the wall time it spends in DDS."""
+        hold_process(until)
 
     def action_client(self, action_type: type, name: str) -> ActionClient:
         """The (cached) client of action ``name``."""

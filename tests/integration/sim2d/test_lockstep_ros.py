@@ -28,7 +28,7 @@ from std_msgs.msg import Header
 from std_srvs.srv import SetBool
 
 from ros_tools.runtime.executor import make_executor
-from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, LockstepParticipant
+from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, LockstepParticipant, hold_process
 from sim2d.ros.sim_node import Sim2dNode
 from tests.helpers.ros import spin_until
 
@@ -238,6 +238,24 @@ def test_a_hold_stops_the_sim_until_its_condition_or_its_grace_runs_out(ros_cont
         participant.hold(broken, grace=30.0)  # a failing condition releases its hold at once
         rig.spin_until(lambda: rig.newest_clock() > held_at + 3 * S, "the sim to go on past a broken hold")
         participant.destroy()
+
+
+def test_hold_process_holds_the_participants_of_this_process_only_while_they_live(ros_context: Any) -> None:
+    """hold_process (what a behavior-tree leaf calls while its goal crosses DDS) holds every live
+    participant of the process; a destroyed one is no longer held (nor holds anything)."""
+    with lockstep_rig(ros_context, "events", participants=["stack"]) as rig:
+        participant = LockstepParticipant(rig.fake, "stack")
+        rig.spin_until(lambda: rig.newest_clock() > S, "1 s of sim time in lockstep")
+        answered = [False]
+        hold_process(lambda: answered[0], grace=30.0)
+        held_at = participant.reported_ns
+        rig.wait_for_repeated_clocks()
+        assert participant.reported_ns == held_at and rig.sim.sim.time_ns <= held_at + LEAD + STEP
+        answered[0] = True
+        rig.spin_until(lambda: rig.newest_clock() > held_at + S, "the sim to go on once answered")
+        participant.destroy()
+        hold_process(lambda: False, grace=30.0)  # no participant left: nothing to hold
+        rig.spin_until(lambda: rig.newest_clock() > held_at + 2 * S, "the sim to run on")
 
 
 def test_an_expected_role_that_never_reports_is_named_once_and_the_sim_starts(ros_context: Any) -> None:
