@@ -173,7 +173,7 @@ def main() -> None:
 
 
 def default_navfn_params(**overrides: float) -> NavfnParams:
-    """NavfnPlanner as config/nav2_params.yaml configures GridBased (use_astar true: A*)."""
+    """NavfnPlanner as config/nav2_params.yaml configures GridBased (its use_astar decides the search)."""
     doc = yaml.safe_load(NAV2_PARAMS.read_text())
     grid_based = doc["planner_server"]["ros__parameters"]["GridBased"]
     knobs = {f.name for f in dataclasses.fields(NavfnParams)}
@@ -223,7 +223,7 @@ def large_maps(bench: Benchmark) -> None:
     """Issue 19's maps, planned side by side in one run on the same costs and pairs.
 
     - 2000 x 2000 at 5 cm (100 m x 100 m, 1600 obstacles, six seeded pairs more than 20 m apart):
-      the default planner (nav2_params.yaml: A*), A* and Dijkstra through the compiled search
+      the default planner (nav2_params.yaml), A* and Dijkstra through the compiled search
       and through the pure-Python reference it is checked against, and pyastar2d;
     - a warehouse at 3 cm (1000 x 1667 cells, racks and aisles, six pairs more than 20 m apart): the
       default planner, the other of A* and Dijkstra, and pyastar2d.
