@@ -5,8 +5,10 @@ The world is drawn by the office generator (scripts/generate_office_world.py, se
 rasterised at 3 cm (scripts/generate_world_map.py); both go to artifacts/bench_large_world/, not to
 the repository. nav-bringup runs it in lockstep at ``--rtf max`` with the robot's own parameters
 (the tb4 by default: its 12 m RPLIDAR sees the long hall's ends, where a 3.5 m LDS would see two
-parallel walls). Each goal is a free cell (>= 0.4 m clearance) at least ``--min-distance`` m in a
-straight line from the robot, reachable per the running planner (bench.nav_session).
+parallel walls) and GridBased's search chosen by ``--search`` (A* by default, which maps this size
+need; the shipped files keep Nav2's Dijkstra). Each goal is a free cell (>= 0.4 m clearance) at least
+``--min-distance`` m in a straight line from the robot, reachable per the running planner
+(bench.nav_session).
 
 Recorded: success rate, collisions, the planner server's budget warnings ("planning took ... more
 than the ... of expected_planner_frequency", counted in the stack's logs: the target is none), the
@@ -14,7 +16,7 @@ sustained real-time factor and the map's size. Targets (issue 19): every goal re
 
     .venv/bin/python -m bench.bench_large_world [--goals 5] [--width 45] [--height 30]
                                                 [--resolution 0.03] [--min-distance 20] [--robot tb4]
-                                                [--seed 3] [--note TEXT] [--no-record]
+                                                [--search astar] [--seed 3] [--note TEXT] [--no-record]
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
 from bench.nav_session import MIN_CLEARANCE, REPO, GoalRecord, Stack, free_poses, ideal_speed, run_goals
@@ -45,6 +48,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--min-distance", type=float, default=20.0,
                         help="straight-line distance of each goal from the robot (m)")
     parser.add_argument("--robot", default="tb4", choices=ROBOTS)
+    parser.add_argument("--search", default="astar", choices=("astar", "dijkstra"),
+                        help="GridBased's search (default astar: the shipped files keep Nav2's Dijkstra)")
     parser.add_argument("--seed", type=int, default=3, help="draws the office and the goals")
     parser.add_argument("--note", default="", help="appended to every recorded row's note")
     parser.add_argument("--no-record", action="store_true")
@@ -65,6 +70,15 @@ def generate(args: argparse.Namespace) -> tuple[Path, Path]:
     ):
         subprocess.run([sys.executable, *map(str, command)], cwd=REPO, check=True)
     return world, map_path
+
+
+def planner_params(robot_params: Path, astar: bool) -> Path:
+    """The robot's parameter file with GridBased's ``use_astar`` set, written under OUT."""
+    doc = yaml.safe_load(robot_params.read_text())
+    doc["planner_server"]["ros__parameters"]["GridBased"]["use_astar"] = astar
+    path = OUT / f"{robot_params.stem}_{'astar' if astar else 'dijkstra'}.yaml"
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
 
 
 def _cells(map_path: Path) -> int:
@@ -100,7 +114,7 @@ def main() -> int:
     cells = _cells(map_path)
     print(f"large_world: {world.name}, map {cells / 1e6:.2f} M cells at {args.resolution} m; "
           f"ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}; code {version}", flush=True)
-    params = params_for_robot(args.robot)
+    params = planner_params(params_for_robot(args.robot), args.search == "astar")
     log_dir = OUT / "logs"
     for old in log_dir.glob("*.log"):
         old.unlink()
@@ -115,7 +129,7 @@ def main() -> int:
     warnings = budget_warnings(log_dir)
     for line in warnings[:10]:
         print(f"large_world: {line}", flush=True)
-    note = (f"{world.stem} ({cells / 1e6:.2f} M cells at {args.resolution} m), {args.robot}, "
+    note = (f"{world.stem} ({cells / 1e6:.2f} M cells at {args.resolution} m), {args.robot}, {args.search}, "
             f"{len(run.records)}/{args.goals} goals >= {args.min_distance:g} m apart, seed {args.seed}, "
             f"rtf max, lockstep, {version_note(version)}" + (f"; {args.note}" if args.note else ""))
     bench.record_value("goals reached", 100.0 * len(run.succeeded) / max(len(run.records), 1), "%", note)
