@@ -58,16 +58,11 @@ def bag_info(bag: Path, timeout: float = 60.0) -> dict[str, tuple[str, int]]:
 
 @dataclass
 class TopicCounter:
-    """Raw subscriptions on one node that count messages per topic and keep /clock values (ns).
-
-    ``clock_arrivals`` holds the monotonic wall time at which each /clock value arrived, to
-    measure the playback speed (:attr:`played_rate`).
-    """
+    """Raw subscriptions on one node that count messages per topic and keep /clock values (ns)."""
 
     node: Node
     counts: dict[str, int] = field(default_factory=dict)
     clock_ns: list[int] = field(default_factory=list)
-    clock_arrivals: list[float] = field(default_factory=list)
     _subscriptions: list[Any] = field(default_factory=list)
 
     def watch(self, topic: str, msg_type: type, latched: bool = False, qos: QoSProfile | None = None) -> None:
@@ -82,7 +77,6 @@ class TopicCounter:
             if topic == "/clock":
                 stamp = deserialize_message(data, Clock).clock
                 self.clock_ns.append(stamp.sec * 1_000_000_000 + stamp.nanosec)
-                self.clock_arrivals.append(time.monotonic())
 
         self._subscriptions.append(self.node.create_subscription(msg_type, topic, on_message, qos, raw=True))
 
@@ -93,19 +87,6 @@ class TopicCounter:
                 info = reader.topics[topic]
                 offers = parse_offered_qos(info.offered_qos, f"{bag}: {topic}")
                 self.watch(topic, import_type(info.type, "msg"), qos=request_for_offers(offers, COUNT_DEPTH))
-
-    @property
-    def played_rate(self) -> float:
-        """Replayed /clock seconds per wall second over the second half of the /clock messages.
-
-        The first half is left out: messages sent while the subscriptions were still matching
-        arrive late in one burst, which would make the start look later than it was.
-        """
-        middle = len(self.clock_ns) // 2
-        if len(self.clock_ns) < 4 or self.clock_arrivals[-1] <= self.clock_arrivals[middle]:
-            raise AssertionError(f"too few /clock messages to measure a rate: {len(self.clock_ns)}")
-        played = (self.clock_ns[-1] - self.clock_ns[middle]) / 1e9
-        return played / (self.clock_arrivals[-1] - self.clock_arrivals[middle])
 
 
 @dataclass
