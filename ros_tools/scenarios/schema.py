@@ -13,7 +13,8 @@ File layout (units: m, rad, sim s for ``at``/``max_sim_time``, wall s for ``time
       - name: seed_nominal
         start: [-2.0, -0.5, 0.0]                     # x, y, yaw in the map frame
         mission: {state_machine: sm_nav2_test_1, parameters: {waypoint_1: [2.0, 0.0, 0.0]}}
-        events: [{at: 8.0, kidnap: [0.5, -1.6, 0.0]}]
+        events: [{at: 8.0, kidnap: [0.5, -1.6, 0.0]}, {at: 12.0, lidar_dropout: 3.0},
+                 {at: 15.0, obstacle: [0.5, 0.0, 0.15]}, {at: 30.0, kill_navigation: null}]
         expect: {result: SUCCESS, final_state: StFinalState, max_sim_time: 90, max_collisions: 0}
         sweep: {start: [[-2.0, -0.5, 0.0], [-2.0, 0.5, 0.0]]}   # one scenario per start, name-1, name-2…
 """
@@ -93,7 +94,8 @@ class Event:
     """Something done to the world at sim time ``at`` (s since the simulator's first step).
 
     ``kind`` is one of schema_fields.EVENT_KINDS; ``value`` is a Pose2D (kidnap), a charge fraction 0..1
-    (battery), a duration in s (lidar_dropout), (x, y, radius) m (obstacle) or None (kill_navigation).
+    (battery), a duration in sim s (lidar_dropout), (x, y, radius) m in the map frame (obstacle) or None
+    (kill_navigation: SIGKILL of the process running bt_navigator and the controller).
     """
 
     at: float

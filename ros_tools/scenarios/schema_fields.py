@@ -23,10 +23,11 @@ CYCLING_MACHINES = ("sm_battery_patrol",)
 ROBOTS = ("waffle", "burger", "tb4")
 #: The mission outcome words (see verdict.Outcome.result).
 RESULTS = ("SUCCESS", "ABORT", "TIMEOUT", "STACK", "ERROR")
-#: Every event kind the file may name, and the ones the runner can apply today. ``battery`` works at
-#: t = 0 only (sim2d's initial charge): sim2d has no interface to set the charge of a running battery.
+#: Every event kind the file may name. ``battery`` works at t = 0 only (sim2d's initial charge: sim2d
+#: has no interface to set the charge of a running battery); the others are applied during the run by
+#: the injector (ros_tools.scenarios.injector), each printing one "applied" line that the verdict counts.
 EVENT_KINDS = ("kidnap", "battery", "lidar_dropout", "obstacle", "kill_navigation")
-SUPPORTED_EVENTS = ("kidnap", "battery")
+INJECTED_EVENTS = ("kidnap", "lidar_dropout", "obstacle", "kill_navigation")
 EXPECT_KEYS = ("result", "final_state", "tag", "result_code", "max_sim_time", "max_collisions",
                "max_localization_error")
 MISSION_KINDS = ("state_machine", "goals", "behavior_tree")
@@ -216,11 +217,15 @@ def _event_value(check: FieldCheck, where: str, kind: str, value: object, at: fl
             check.fail(where, "not yet supported after t = 0 (sim2d sets only the initial charge)", value)
         return charge
     if kind == "lidar_dropout":
-        check_positive(check, where, value)
-    elif kind == "obstacle" and not (isinstance(value, list) and len(value) == 3):
-        check.fail(where, "expected [x, y, radius] (m)", value)
-    check.fail(where, "event not yet supported by the runner", value,
-               f"supported: {', '.join(SUPPORTED_EVENTS)}")
+        return check_positive(check, where, value)
+    if kind == "obstacle":
+        if not (isinstance(value, list) and len(value) == 3):
+            check.fail(where, "expected [x, y, radius] (m, map frame)", value)
+        x, y = (check_number(check, f"{where}[{i}]", v) for i, v in enumerate(value[:2]))
+        return (x, y, check_positive(check, f"{where}[2]", value[2]))
+    if value not in (None, True):  # kill_navigation
+        check.fail(where, "takes no value", value, "write {at: <sim s>, kill_navigation: null}")
+    return None
 
 
 def check_expect(check: FieldCheck, value: object) -> dict[str, Any]:

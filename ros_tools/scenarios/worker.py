@@ -24,6 +24,7 @@ from pathlib import Path
 from ros_tools.launch import Launcher, LaunchError, ProcessSpec
 from ros_tools.scenarios import commands, outcome
 from ros_tools.scenarios.schema import Scenario, load_scenarios
+from ros_tools.scenarios.schema_fields import INJECTED_EVENTS
 from ros_tools.scenarios.verdict import Outcome
 
 REPO = Path(__file__).resolve().parents[2]
@@ -31,8 +32,9 @@ READY = r"Nav2 is ready"
 READY_TIMEOUT = 180.0  # wall s for nav-bringup's readiness line
 RESULT_FILE = "result.json"
 APPLIED = re.compile(r"^applied .*")
-#: sim2d's warning for a kidnap it did not apply ("teleport to <pose> refused: footprint overlaps ...")
-REFUSED = re.compile(r"teleport to .* refused")
+#: sim2d's warnings for an event it did not apply ("teleport to <pose> refused: footprint overlaps ...",
+#: "obstacle at (x, y) radius r m refused: it overlaps the robot")
+REFUSED = re.compile(r"(teleport to|obstacle at) .* refused")
 
 
 def record_spec(mcap: Path) -> ProcessSpec:
@@ -43,11 +45,13 @@ def record_spec(mcap: Path) -> ProcessSpec:
 
 
 def injector_spec(scenario: Scenario) -> ProcessSpec | None:
-    kidnaps = [{"at": e.at, "kidnap": e.value.as_list()} for e in scenario.events if e.kind == "kidnap"]
-    if not kidnaps:
+    """The injector of the events applied during the run (schema_fields.INJECTED_EVENTS), if any."""
+    events = [{"at": e.at, e.kind: e.value.as_list() if e.kind == "kidnap" else e.value}
+              for e in scenario.events if e.kind in INJECTED_EVENTS]
+    if not events:
         return None
     return ProcessSpec("scenario-events", [sys.executable, "-m", "ros_tools.scenarios.injector",
-                                           json.dumps(kidnaps)], required=False)
+                                           json.dumps(events)], required=False)
 
 
 def with_participant(plan: commands.RunPlan, role: str) -> commands.RunPlan:
@@ -104,9 +108,12 @@ def _supervise(plan: commands.RunPlan, launcher: Launcher, extra: list[ProcessSp
         return outcome.MissionFacts("STACK", f"did not start: {error}"), None
     launcher.wait(lambda: time.monotonic() > deadline)
     mission = launcher.running[-1].proc
+    stack_code = launcher.running[0].proc.poll() if plan.stack is not None else None
     stopped = mission.poll() is None
     launcher.shutdown()  # the mission's last lines and the recording's end are written by now
     lines = _lines(launcher.log_dir / "scenario-mission.log")
+    if stopped and stack_code is not None:  # nav-bringup ended under a goal list or a tree: say why
+        return outcome.MissionFacts("STACK", _stack_stopped(launcher.log_dir, stack_code)), None
     if stopped:
         return outcome.MissionFacts("TIMEOUT", "the farm stopped the run at its deadline"), None
     if plan.kind == "tree":
@@ -114,6 +121,12 @@ def _supervise(plan: commands.RunPlan, launcher: Launcher, extra: list[ProcessSp
     if plan.kind == "goals":
         return outcome.goal_facts(lines, mission.returncode), mission.returncode
     return outcome.machine_facts(lines, mission.returncode), mission.returncode
+
+
+def _stack_stopped(logs: Path, code: int) -> str:
+    """Why the stack the worker started ended: nav-bringup's last ERROR line (which process died)."""
+    errors = [line.strip() for line in _lines(logs / "scenario-stack.log") if "ERROR" in line]
+    return f"the stack stopped (exit code {code})" + (f": {errors[-1]}" if errors else "")
 
 
 def _applied_events(logs: Path) -> tuple[str, ...]:

@@ -85,6 +85,22 @@ class CollisionModel:
         point = points[0].point_b
         return (float(point.x), float(point.y))
 
+    def add_circle(self, pose: Pose2D, x: float, y: float, radius: float) -> bool:
+        """Add a static circle (m, map frame) unless it would overlap the footprint at ``pose``.
+
+        Why here: the robot's pymunk shape is the one that answers "touching?" everywhere else, so a
+        dropped obstacle is refused by the same test that stops the robot at a wall.
+        """
+        circle = pymunk.Circle(self.space.static_body, radius, (x, y))
+        self.space.add(circle)
+        self._body.position = (pose.x, pose.y)
+        self._body.angle = pose.yaw
+        self._shape.cache_bb()
+        if any(hit.shape is circle for hit in self.space.shape_query(self._shape)):
+            self.space.remove(circle)
+            return False
+        return True
+
     def overlaps(self, pose: Pose2D) -> bool:
         """True when the footprint at ``pose`` overlaps an obstacle (teleport check)."""
         return self._touch(pose, self._shape) is not None

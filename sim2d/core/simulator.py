@@ -9,12 +9,13 @@ same command sequence give identical trajectories and scans, whatever the scan r
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from sim2d.core.battery import Battery, BatteryParams
 from sim2d.core.collision import CollisionModel, CollisionParams
+from sim2d.core.disturbances import DroppedObstacle, LidarDropout
 from sim2d.core.geometry import FloatArray, normalize_angle
 from sim2d.core.lidar import Lidar, LidarParams
 from sim2d.core.odometry import Odometry, OdometryParams
@@ -71,6 +72,8 @@ class Simulator:
         self._timeout_ns = round(params.cmd_vel_timeout * 1e9)
         self.collision_count = 0
         self.collision_events: list[CollisionEvent] = []
+        self.dropout = LidarDropout()
+        self.dropped: list[DroppedObstacle] = []
         self.reset()
 
     @property
@@ -81,7 +84,9 @@ class Simulator:
     def reset(self) -> None:
         """Robot back to the spawn pose at rest; odometry, battery and collision count restart.
 
-        Sim time keeps running: ROS consumers treat a clock that jumps back as an error.
+        Sim time keeps running: ROS consumers treat a clock that jumps back as an error. Dropped
+        obstacles stay and a lidar dropout runs its course, as models spawned into Gazebo survive
+        its reset_world: they are part of the world, not of the robot's state.
         """
         self.pose = self.params.initial_pose
         self.v = self.w = 0.0
@@ -111,6 +116,23 @@ class Simulator:
         self.v = self.w = 0.0
         self.collision.in_contact = False
         return True
+
+    def drop_obstacle(self, obstacle: DroppedObstacle) -> bool:
+        """Add a static circle that the lidar sees and the robot collides with from now on.
+
+        Refused (False) when it would overlap the robot's footprint (sim2d.core.disturbances).
+        """
+        if not self.collision.add_circle(self.pose, obstacle.x, obstacle.y, obstacle.radius):
+            return False
+        geometry = self.lidar.geometry
+        circles = np.vstack((geometry.circles, np.array([obstacle.as_row()], dtype=np.float64)))
+        self.lidar.geometry = replace(geometry, circles=circles)
+        self.dropped.append(obstacle)
+        return True
+
+    def drop_lidar(self, duration_s: float) -> None:
+        """The lidar returns nothing (+inf on every beam) for ``duration_s`` s of sim time from now."""
+        self.dropout.start(self.time_ns, duration_s)
 
     def step(self) -> None:
         """Advance one physics step: watchdog, limits, swept motion, contacts, odometry, battery."""
@@ -150,9 +172,17 @@ class Simulator:
                       normalize_angle(self.pose.yaw + self.robot.scan_yaw))
 
     def scan(self) -> FloatArray:
-        """One lidar scan (beams,) (m, REP 117) taken now."""
+        """One lidar scan (beams,) (m, REP 117) taken now; all +inf during a lidar dropout.
+
+        The beams are cast even during a dropout, so the lidar's noise stream advances once per scan
+        whether the sensor is up or not: a dropout changes the world's randomness only through what
+        the robot does about it.
+        """
         sensor = self.scan_pose()
-        return self.lidar.scan(sensor.x, sensor.y, sensor.yaw)
+        ranges = self.lidar.scan(sensor.x, sensor.y, sensor.yaw)
+        if self.dropout.active(self.time_ns):
+            ranges[:] = np.inf
+        return ranges
 
     def pop_collision_events(self) -> list[CollisionEvent]:
         """New contacts since the last call (the node publishes each once)."""

@@ -1,4 +1,5 @@
-"""Message builders: core state → ROS messages, with every stamp in sim time.
+"""Message builders: core state → ROS messages, with every stamp in sim time; and the one input
+that needs more than a field copy (a dropped obstacle from a visualization_msgs/Marker).
 
 Why reusable message objects: at 100× real time the node publishes thousands of messages per wall
 second, and filling a preallocated message is several times cheaper than building a new one.
@@ -17,8 +18,10 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import BatteryState, LaserScan
 from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker
 
 from sim2d.core.battery import Battery
+from sim2d.core.disturbances import DroppedObstacle
 from sim2d.core.lidar import LidarParams
 from sim2d.core.robot import Pose2D, RobotModel
 
@@ -156,3 +159,24 @@ def collision_point(time_ns: int, x: float, y: float) -> PointStamped:
     msg.header.frame_id = MAP_FRAME
     msg.point.x, msg.point.y = x, y
     return msg
+
+
+def obstacle_from_marker(marker: Marker) -> DroppedObstacle:
+    """The obstacle a CYLINDER marker describes: centre ``pose.position`` (x, y) in ``map``, radius
+    ``scale.x / 2`` (RViz's cylinder: scale.x and scale.y are the diameters; they must be equal).
+
+    Why a Marker: it is the standard message for "a cylinder of this size at this pose", the one RViz
+    users already write, so no custom interface is needed (Gazebo's /spawn_entity takes an SDF instead).
+
+    Raises:
+        ValueError: naming what the marker gets wrong (action, type, frame, size).
+    """
+    if marker.action != Marker.ADD:
+        raise ValueError(f"action {marker.action}: only ADD ({Marker.ADD}) drops an obstacle")
+    if marker.type != Marker.CYLINDER:
+        raise ValueError(f"type {marker.type}: only CYLINDER ({Marker.CYLINDER}) is supported")
+    if marker.header.frame_id not in ("", MAP_FRAME):
+        raise ValueError(f"frame {marker.header.frame_id!r} is not {MAP_FRAME!r}")
+    if marker.scale.x != marker.scale.y:
+        raise ValueError(f"scale.x {marker.scale.x} != scale.y {marker.scale.y}: only round cylinders")
+    return DroppedObstacle(marker.pose.position.x, marker.pose.position.y, 0.5 * marker.scale.x)

@@ -18,7 +18,7 @@ after 20 ms of wall time, so cmd_vel and progress callbacks get their turn in be
 
 ROS surface (names relative to the node namespace unless absolute):
   sub  cmd_vel (geometry_msgs/Twist, or TwistStamped with enable_stamped_cmd_vel)
-  sub  sim2d/teleport (geometry_msgs/PoseStamped, frame map): move the robot, odometry unaware
+  sub  sim2d/teleport, sim2d/lidar_dropout, sim2d/spawn_obstacle: act on the world (world_inputs.py)
   sub  /lockstep/progress (std_msgs/Header, only with lockstep.enabled)
   pub  /clock, scan (reliable), odom, /tf, /tf_static (transient local), ground_truth (frame map),
        battery_state, sim2d/collisions (PointStamped per new contact),
@@ -28,11 +28,10 @@ ROS surface (names relative to the node namespace unless absolute):
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
-from geometry_msgs.msg import PointStamped, PoseStamped, Twist, TwistStamped
+from geometry_msgs.msg import PointStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock
@@ -47,17 +46,20 @@ from tf2_msgs.msg import TFMessage
 
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, REPORT_PERIOD
 from sim2d.core.lockstep import LockstepGate
-from sim2d.core.robot import Pose2D, robot_model
+from sim2d.core.robot import robot_model
 from sim2d.core.simulator import Simulator
 from sim2d.core.world import load_world
 from sim2d.ros import messages
 from sim2d.ros.config import NODE_NAME, SimConfig, build_config, declare_all
+from sim2d.ros.world_inputs import LIDAR_DROPOUT_TOPIC, SPAWN_OBSTACLE_TOPIC, TELEPORT_TOPIC, WorldInputs
+
+__all__ = ["LIDAR_DROPOUT_TOPIC", "SPAWN_OBSTACLE_TOPIC", "TELEPORT_TOPIC", "Sim2dNode"]
 
 CLOCK_TOPIC, TF_TOPIC, TF_STATIC_TOPIC = "/clock", "/tf", "/tf_static"
 SCAN_TOPIC, ODOM_TOPIC, CMD_VEL_TOPIC = "scan", "odom", "cmd_vel"
 GROUND_TRUTH_TOPIC, BATTERY_TOPIC = "ground_truth", "battery_state"
 COLLISIONS_TOPIC, COLLISION_COUNT_TOPIC = "sim2d/collisions", "sim2d/collision_count"
-RTF_TOPIC, TELEPORT_TOPIC = "sim2d/real_time_factor", "sim2d/teleport"
+RTF_TOPIC = "sim2d/real_time_factor"
 RESET_SERVICE, PAUSE_SERVICE = "sim2d/reset", "sim2d/pause"
 
 TICK_PERIOD = 0.005        # wall seconds between stepping bursts
@@ -130,7 +132,7 @@ class Sim2dNode(Node):
         self.pub_rtf = self.create_publisher(Float64, RTF_TOPIC, RELIABLE_10)
         self._cmd_type = TwistStamped if cfg.node.enable_stamped_cmd_vel else Twist
         self.create_subscription(self._cmd_type, CMD_VEL_TOPIC, self._on_cmd_vel, RELIABLE_10)
-        self.create_subscription(PoseStamped, TELEPORT_TOPIC, self._on_teleport, RELIABLE_10)
+        self.world_inputs = WorldInputs(self, self.sim, RELIABLE_10)
         self.create_service(Empty, RESET_SERVICE, self._on_reset)
         self.create_service(SetBool, PAUSE_SERVICE, self._on_pause)
         self._odom = messages.OdometryBuilder(messages.ODOM_FRAME)
@@ -336,16 +338,6 @@ class Sim2dNode(Node):
                     f"sim2d: {key[0]} publishes {info.topic_type} on {topic}, but sim2d expects {expected} "
                     f"(enable_stamped_cmd_vel={self.config.node.enable_stamped_cmd_vel}); "
                     "its commands are ignored")
-
-    def _on_teleport(self, msg: PoseStamped) -> None:
-        if msg.header.frame_id not in ("", messages.MAP_FRAME):
-            self.get_logger().warning(f"sim2d: teleport ignored: frame {msg.header.frame_id!r} is not 'map'")
-            return
-        q = msg.pose.orientation
-        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-        pose = Pose2D(msg.pose.position.x, msg.pose.position.y, yaw)
-        if not self.sim.teleport(pose):
-            self.get_logger().warning(f"sim2d: teleport to {pose} refused: footprint overlaps an obstacle")
 
     def _on_reset(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
         self.sim.reset()

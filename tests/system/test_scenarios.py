@@ -1,6 +1,8 @@
 """The scenario farm end to end: ``navsuite-scenarios run`` on config/scenarios/farm_selftest.yaml (two
 short scenarios that pass, one built to fail) with two workers, then the built-to-fail one through
-``pytest --scenarios``. Each scenario runs the real stack on its own claimed domain id (51-100, or
+``pytest --scenarios``, then seed_missions.yaml's ``goals_navigation_killed`` (an injected event over
+real DDS: the injector finds the navigation process on /lockstep/progress and SIGKILLs it at 5 s sim).
+Each scenario runs the real stack on its own claimed domain id (51-100, or
 $NAVSUITE_SCENARIO_DOMAINS; the same lock files as the test sessions'), so it never shares a DDS domain
 with the session running it.
 
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -24,6 +27,7 @@ from ros_tools.scenarios.executor import processes_with_env
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 REPO = Path(__file__).resolve().parents[2]
 SELFTEST = REPO / "config" / "scenarios" / "farm_selftest.yaml"
+SEED = REPO / "config" / "scenarios" / "seed_missions.yaml"
 FAILURE = "result: expected SUCCESS, got ABORT"
 TAG = "NAVSUITE_SCENARIO_TEST"
 
@@ -76,3 +80,20 @@ def test_pytest_scenarios_fails_the_built_to_fail_scenario_with_its_criterion(tm
     assert "1 failed, 2 deselected" in run.stdout
     assert _left_behind(tmp_path) == []
 
+
+
+@pytest.mark.timeout(150)
+def test_killing_the_navigation_process_ends_the_run_as_stack_and_the_scenario_passes(tmp_path: Path) -> None:
+    out = tmp_path / "farm"
+    run = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SEED),
+                          "-k", "goals_navigation_killed", "--workers", "1", "--out", str(out)],
+                         cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=140)
+    console = run.stdout + run.stderr
+    assert run.returncode == 0, console
+    result = json.loads((out / "goals_navigation_killed" / "result.json").read_text())
+    assert result["result"] == "STACK", result
+    assert re.search(r"ERROR: (nav2|navigation) died with exit code -9", result["detail"]), result["detail"]
+    assert len(result["events_applied"]) == 1, result
+    assert re.fullmatch(r"applied kill_navigation pid \d+ at t=5\.0\d s", result["events_applied"][0])
+    assert result["collisions"] == 0
+    assert _left_behind(tmp_path) == []

@@ -1,4 +1,5 @@
-"""sim2d node over rclpy: topic types, frames, QoS and sim-time rates; cmd_vel, teleport, reset, pause."""
+"""sim2d node over rclpy: topic types, frames, QoS and sim-time rates; cmd_vel, teleport, reset, pause;
+a lidar dropout and a dropped obstacle."""
 
 from __future__ import annotations
 
@@ -22,9 +23,10 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import BatteryState, LaserScan
-from std_msgs.msg import UInt32
+from std_msgs.msg import Float64, UInt32
 from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker
 
 from sim2d.ros.sim_node import Sim2dNode
 from tests.helpers.ros import spin_until
@@ -75,9 +77,13 @@ class Rig:
 
     def teleport(self, target: PoseStamped) -> None:
         """Publish one teleport request once the sim subscribes (queued repeats would undo a reset)."""
-        pub = self.probe.create_publisher(PoseStamped, "/sim2d/teleport", 10)
-        self.spin_until(lambda: pub.get_subscription_count() > 0, "the teleport subscription")
-        pub.publish(target)
+        self.send("/sim2d/teleport", target)
+
+    def send(self, topic: str, msg: Any) -> None:
+        """Publish ``msg`` once on ``topic``, as soon as the sim subscribes to it."""
+        pub = self.probe.create_publisher(type(msg), topic, 10)
+        self.spin_until(lambda: pub.get_subscription_count() > 0, f"the {topic} subscription")
+        pub.publish(msg)
 
     def call(self, client: Any, request: Any) -> Any:
         assert client.wait_for_service(timeout_sec=10.0)
@@ -245,3 +251,28 @@ def test_pause_stops_the_clock_and_resume_restarts_it(rig: Rig) -> None:
     assert rig.sim.sim.time_ns == frozen
     rig.call(pause, SetBool.Request(data=False))
     rig.spin_until(lambda: rig.sim.sim.time_ns > frozen, "the clock to run again")
+
+
+def test_a_lidar_dropout_blanks_every_beam_for_its_sim_time(rig: Rig) -> None:
+    rig.wait_sim(0.3)
+    rig.send("/sim2d/lidar_dropout", Float64(data=1.0))
+    rig.spin_until(lambda: any(all(r == math.inf for r in m.ranges) for m in rig.received["/scan"]),
+                   "a scan with no return")
+    first_blank = next(i for i, m in enumerate(rig.received["/scan"]) if all(r == math.inf for r in m.ranges))
+    rig.spin_until(lambda: any(math.isfinite(r) for r in rig.last("/scan").ranges), "the lidar back")
+    blank = [m for m in rig.received["/scan"][first_blank:] if all(r == math.inf for r in m.ranges)]
+    span = _sim_time(blank[-1].header.stamp) - _sim_time(blank[0].header.stamp)
+    assert 0.79 <= span <= 1.0            # 5 Hz scans within the 1 s dropout: 0.8 s from first to last
+
+
+def test_a_dropped_cylinder_is_seen_by_the_lidar(rig: Rig) -> None:
+    rig.spin_until(lambda: bool(rig.received["/scan"]), "a scan")
+    assert rig.last("/scan").ranges[0] > 0.6           # nothing within 0.6 m ahead of the spawn
+    marker = Marker(type=Marker.CYLINDER, action=Marker.ADD)
+    marker.header.frame_id = "map"
+    marker.pose.position.x, marker.pose.position.y = -1.5, -0.5
+    marker.scale.x = marker.scale.y = 0.2
+    rig.send("/sim2d/spawn_obstacle", marker)
+    scan_x = -2.0 + rig.sim.robot.scan_offset[0]        # the spawn faces +x; the lidar sits behind its centre
+    rig.spin_until(lambda: rig.last("/scan").ranges[0] == pytest.approx(-1.6 - scan_x, abs=0.05),
+                   "the cylinder 0.4 m ahead in the scan")

@@ -115,12 +115,24 @@ def test_a_bad_field_names_the_file_the_scenario_the_field_and_the_value(
     assert f"(got {value})" in message
 
 
-@pytest.mark.parametrize("kind", ["lidar_dropout", "kill_navigation"])
-def test_events_the_runner_cannot_apply_yet_fail_at_load_and_say_so(kind: str) -> None:
-    value = 2.0 if kind == "lidar_dropout" else None
-    message = _error(_one(events=[{"at": 5, kind: value}]))
-    assert f"events[0].{kind}: event not yet supported by the runner" in message
-    assert "supported: kidnap, battery" in message
+def test_injected_events_load_with_their_values() -> None:
+    events = [{"at": 5, "lidar_dropout": 3}, {"at": 6, "obstacle": [0.5, -1, 0.15]},
+              {"at": 9, "kill_navigation": None}]
+    scenario = parse_scenarios(_one(events=events), "file.yaml")[0]
+    assert [(e.at, e.kind, e.value) for e in scenario.events] == [
+        (5.0, "lidar_dropout", 3.0), (6.0, "obstacle", (0.5, -1.0, 0.15)), (9.0, "kill_navigation", None)]
+
+
+@pytest.mark.parametrize(("event", "field", "value"), [
+    ({"lidar_dropout": 0}, "lidar_dropout", "0"),
+    ({"obstacle": [0.5, 0.5]}, "obstacle", "[0.5, 0.5]"),
+    ({"obstacle": [0.5, 0.5, -0.1]}, "obstacle[2]", "-0.1"),
+    ({"kill_navigation": "nav2"}, "kill_navigation", "'nav2'"),
+])
+def test_a_bad_injected_event_names_its_field_and_value(event: dict[str, Any], field: str,
+                                                        value: str) -> None:
+    message = _error(_one(events=[{"at": 5, **event}]))
+    assert f"events[0].{field}: " in message and f"(got {value})" in message, message
 
 
 def test_a_duplicate_name_fails_naming_it() -> None:

@@ -1,0 +1,79 @@
+"""The topics that act on sim2d's world from outside: teleport, lidar dropout, dropped obstacles.
+
+Why topics with standard messages (like Gazebo's set_entity_state / spawn_entity, but with no custom
+interface): ``ros2 topic pub`` and any Nav2 test harness can drive them, and a scenario's injector
+can publish them at a sim time. Each takes effect at the sim time it arrives: under lockstep the
+sender is a participant, so that is within one lockstep lead (0.05 s) of the /clock it acted on.
+
+  sub  sim2d/teleport (geometry_msgs/PoseStamped, frame map): move the robot; odometry does not notice
+  sub  sim2d/lidar_dropout (std_msgs/Float64): every beam reads +inf (REP 117: no return) for
+       ``data`` s of sim time; <= 0 brings the lidar back at once (sim2d.core.disturbances says why
+       +inf rather than silence)
+  sub  sim2d/spawn_obstacle (visualization_msgs/Marker, type CYLINDER, action ADD, frame map):
+       a static round obstacle of radius scale.x / 2 m at pose.position, seen by the lidar and
+       collided with; refused with a warning when it would overlap the robot
+
+The callbacks only translate and log; the core (``Simulator.teleport``, ``drop_lidar``,
+``drop_obstacle``) holds the logic and the checks.
+"""
+
+from __future__ import annotations
+
+import math
+
+from geometry_msgs.msg import PoseStamped
+from rclpy.node import Node
+from rclpy.qos import QoSProfile
+from std_msgs.msg import Float64
+from visualization_msgs.msg import Marker
+
+from sim2d.core.robot import Pose2D
+from sim2d.core.simulator import Simulator
+from sim2d.ros import messages
+
+TELEPORT_TOPIC = "sim2d/teleport"
+LIDAR_DROPOUT_TOPIC = "sim2d/lidar_dropout"
+SPAWN_OBSTACLE_TOPIC = "sim2d/spawn_obstacle"
+
+
+class WorldInputs:
+    """Subscribes ``node`` to the three topics and applies what arrives to ``sim``."""
+
+    def __init__(self, node: Node, sim: Simulator, qos: QoSProfile) -> None:
+        self.node, self.sim = node, sim
+        node.create_subscription(PoseStamped, TELEPORT_TOPIC, self._on_teleport, qos)
+        node.create_subscription(Float64, LIDAR_DROPOUT_TOPIC, self._on_lidar_dropout, qos)
+        node.create_subscription(Marker, SPAWN_OBSTACLE_TOPIC, self._on_spawn_obstacle, qos)
+
+    def _on_teleport(self, msg: PoseStamped) -> None:
+        logger = self.node.get_logger()
+        if msg.header.frame_id not in ("", messages.MAP_FRAME):
+            logger.warning(f"sim2d: teleport ignored: frame {msg.header.frame_id!r} is not 'map'")
+            return
+        q = msg.pose.orientation
+        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        pose = Pose2D(msg.pose.position.x, msg.pose.position.y, yaw)
+        if not self.sim.teleport(pose):
+            logger.warning(f"sim2d: teleport to {pose} refused: footprint overlaps an obstacle")
+
+    def _on_lidar_dropout(self, msg: Float64) -> None:
+        logger = self.node.get_logger()
+        if not math.isfinite(msg.data):
+            logger.warning(f"sim2d: lidar dropout of {msg.data} s refused: not a finite duration")
+            return
+        self.sim.drop_lidar(msg.data)
+        state = f"for {msg.data:g} s of sim time" if msg.data > 0 else "ended"
+        logger.info(f"sim2d: lidar dropout {state} at sim time {self.sim.time:.3f} s (every beam +inf)")
+
+    def _on_spawn_obstacle(self, msg: Marker) -> None:
+        logger = self.node.get_logger()
+        try:
+            obstacle = messages.obstacle_from_marker(msg)
+        except ValueError as error:
+            logger.warning(f"sim2d: spawn_obstacle ignored: {error}")
+            return
+        where = f"({obstacle.x:g}, {obstacle.y:g}) radius {obstacle.radius:g} m"
+        if self.sim.drop_obstacle(obstacle):
+            logger.info(f"sim2d: obstacle at {where} dropped at sim time {self.sim.time:.3f} s")
+        else:
+            logger.warning(f"sim2d: obstacle at {where} refused: it overlaps the robot")
