@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Build the ROS 2 interface packages under interfaces/ and install them into the venv.
 
-Why this exists: nav2_msgs, tf2_msgs, geographic_msgs, bond and smacc2_msgs are not published as
-pip wheels, so we generate them with rosidl (from pip) and CMake (from the system). The result is
-installed into the venv prefix, where the `ros_wheels_bootstrapper` .pth file already puts
-`<prefix>/lib` on LD_LIBRARY_PATH: nothing needs sourcing afterwards.
+Why this exists: nav2_msgs, tf2_msgs, geographic_msgs, bond, smacc2_msgs and slam_toolbox's services
+are not published as pip wheels, so we generate them with rosidl (from pip) and CMake (from the
+system). The result is installed into the venv prefix, where the `ros_wheels_bootstrapper` .pth
+file already puts `<prefix>/lib` on LD_LIBRARY_PATH: nothing needs sourcing afterwards.
 
 Two things make this more than `cmake && make install`:
 
@@ -37,7 +37,7 @@ CMAKE_FIX = INTERFACES / "cmake" / "fix_wheel_include_dirs.cmake"
 STAMP_NAME = ".navsuite-interfaces"
 
 # Build order: a package comes after the packages it depends on.
-PACKAGES = ["geographic_msgs", "bond", "tf2_msgs", "smacc2_msgs", "nav2_msgs"]
+PACKAGES = ["geographic_msgs", "bond", "tf2_msgs", "smacc2_msgs", "nav2_msgs", "slam_toolbox"]
 MAKE_PERCENT = re.compile(r"^\[\s*(\d+)%\]")  # progress prefix of make's output lines
 
 

@@ -1,4 +1,5 @@
-"""slam: online grid SLAM on the ROS graph, in the role of slam_toolbox's async mapper.
+"""slam: online grid SLAM on the ROS graph, in the role of slam_toolbox's async mapper and its
+localization mode.
 
 Why no worker thread: the outcome must not depend on thread scheduling. A scan is processed on the
 executor thread as soon as the odometry at its stamp is in the TF buffer: the scan callback tries at
@@ -19,15 +20,23 @@ simulator waits too, so the map comes out the same however loaded the machine is
        ``transform_publish_period`` s of the node clock (sim s under use_sim_time, so the rate in
        sim time holds at any simulation speed), so TF never goes stale while the robot stands still.
        ``slam/pose`` (PoseWithCovarianceStamped, map frame, scan stamp) for every scan.
-  srv  ``slam/save_map`` (nav2_msgs/SaveMap semantics: ``map_url`` is the path without extension,
-       thresholds 0 mean SAVE_FREE_THRESH / SAVE_OCCUPIED_THRESH; only pgm / trinary are written) and
-       ``slam/pause_new_measurements`` (std_srvs/SetBool; true ignores scans, map and TF stay).
+  srv  ``slam/save_map``, ``slam/pause_new_measurements`` (SetBool), and slam_toolbox's
+       ``slam_toolbox/serialize_map``, ``slam_toolbox/deserialize_map`` and
+       ``slam_toolbox/pause_new_measurements`` (Pause, a toggle): see nav_stack/ros/slam_services.py.
+
+Modes (slam_toolbox's ``mode``): ``mapping`` builds the graph, from scratch or, with
+``map_file_name`` (a graph written by serialize_map, path without extension), continuing the saved
+one with the robot at ``map_start_pose`` (at the graph's first node with ``map_start_at_dock``).
+``localization`` needs ``map_file_name``: it matches scans against the saved graph to publish
+map → odom, adds nothing to it, and /map stays the saved map (nav_stack/core/slam/localization.py).
+A graph that cannot be loaded fails configure, naming the file and field.
 
 Nav2 semantics kept: like slam_toolbox, this node publishes no ``amcl_pose``. A client that waits for
 AMCL (BasicNavigator.waitUntilNav2Active) must skip localization in SLAM mode (Nav2's own tutorial
 does so with ``localizer='slam'`` semantics); our tools wait for ``bt_navigator`` and ``/map``.
 Parameters: every SlamParams field (slam_toolbox names, incl. ``map_start_pose`` [x, y, yaw]) plus
-SlamNodeParams, all in the ``slam`` section of config/nav2_params.yaml.
+SlamNodeParams (incl. ``mode``, ``map_file_name``, ``map_start_at_dock``), all in the ``slam``
+section of config/nav2_params.yaml.
 """
 
 from __future__ import annotations
@@ -35,104 +44,37 @@ from __future__ import annotations
 import math
 import sys
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
-from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
-from rclpy.node import Node
 from rclpy.time import Time
 from sensor_msgs.msg import LaserScan as LaserScanMsg
-from std_srvs.srv import SetBool
-from tf2_msgs.msg import TFMessage
 
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
-from nav_stack.core.map_io import OccupancyMap, save_map
-from nav_stack.core.slam import GridSlam, SlamParams
+from nav_stack.core.slam import GridSlam, SlamParams, read_graph, resume
 from nav_stack.ros.conversions import occupancy_msg, pose_from_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED, SENSOR
+from nav_stack.ros.slam_inputs import NotifyingListener, PendingScan, SlamNodeParams
+from nav_stack.ros.slam_services import SlamServices
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
-from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_seconds, transform_to_msg
+from ros_tools.tf.ros import TransformBroadcaster, stamp_to_seconds, transform_to_msg
 from ros_tools.tf.transform import Transform
 
 NODE_NAME = "slam"
 MAP_TOPIC = "map"
 POSE_TOPIC = "~/pose"
-SAVE_MAP_SERVICE = "~/save_map"
-PAUSE_SERVICE = "~/pause_new_measurements"
 SCAN_TF_WAIT = 0.3  # s of the node clock a scan may wait for the odometry at its stamp
 WARN_PERIOD = 5.0  # s between repeated warnings
-ACTIVE_MESSAGE = "slam: active, mapping from scans"
-# Thresholds written by save_map when the request leaves them 0. Not Nav2 map_saver's 0.25: with it the
-# unknown pixel 205 (occ = 50/255 = 0.196) reloads as *free* (slam_toolbox issue #587); ROS 1's 0.196
-# keeps it unknown.
-SAVE_FREE_THRESH = 0.196
-SAVE_OCCUPIED_THRESH = 0.65
-
-
-@dataclass(frozen=True)
-class SlamNodeParams:
-    """ROS-side knobs, slam_toolbox names (frames, topic) and defaults unless noted.
-
-    Attributes:
-        odom_frame / map_frame / base_frame: TF frames (base_footprint: the frame sim2d's odometry moves).
-        scan_topic: LaserScan topic.
-        transform_timeout: map → odom is stamped this far (s) into the future, AMCL's transform_tolerance.
-        transform_publish_period: period (s of the node clock) of the map → odom re-publication
-            (0 disables it).
-    """
-
-    odom_frame: str = "odom"
-    map_frame: str = "map"
-    base_frame: str = "base_footprint"
-    scan_topic: str = "/scan"
-    transform_timeout: float = 0.2
-    transform_publish_period: float = 0.05
-
-    def __post_init__(self) -> None:
-        for name in ("transform_timeout", "transform_publish_period"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"SlamNodeParams.{name} must be a finite number >= 0, got {value}")
+ACTIVE_MESSAGE = "slam: active, {mode} from scans"
 
 
 def _time_msg(seconds: float) -> object:
     return Time(nanoseconds=round(seconds * 1e9)).to_msg()
-
-
-class _NotifyingListener(TransformListener):
-    """A TransformListener that calls ``on_update`` after each /tf or /tf_static message is stored.
-
-    Why: a scan waiting for its odometry is retried exactly when the buffer may have it, in message
-    order, instead of by polling. (ros_tools' listener has no public hook for this yet.)
-    """
-
-    def __init__(self, node: Node, on_update: Callable[[], None]) -> None:
-        self._on_update = on_update  # set first: the subscriptions may deliver during __init__
-        super().__init__(node)
-
-    def _on_tf(self, msg: TFMessage) -> None:
-        super()._on_tf(msg)
-        self._on_update()
-
-    def _on_tf_static(self, msg: TFMessage) -> None:
-        super()._on_tf_static(msg)
-        self._on_update()
-
-
-@dataclass
-class _PendingScan:
-    """A scan waiting for the odometry at its stamp; ``received`` is the node clock (s) on arrival."""
-
-    msg: LaserScanMsg
-    received: float
 
 
 class SlamNode(NavLifecycleNode):
@@ -152,7 +94,7 @@ class SlamNode(NavLifecycleNode):
         self.ignored_scans = 0  # scans received while paused, since the last pause
         self.parked_scans = 0  # scans that arrived before their odometry and waited for it
         self.dropped_scans = 0  # scans that never found their odometry (replaced, too old, or timed out)
-        self._pending: _PendingScan | None = None
+        self._pending: PendingScan | None = None
         self._laser_poses: dict[str, Pose2D] = {}
         self._map_to_odom: Pose2D | None = None
         self._last_map_stamp = -math.inf
@@ -163,23 +105,26 @@ class SlamNode(NavLifecycleNode):
     def configure(self) -> None:
         self.params = declare_dataclass(self, SlamParams)
         self.node_params = declare_dataclass(self, SlamNodeParams)
-        self.slam = GridSlam(self.params)
-        self.tf = _NotifyingListener(self, self._retry_pending)
+        p = self.node_params
+        if p.map_file_name:  # a GraphFileError names the file and field and fails configure
+            start = None if p.map_start_at_dock else Pose2D(*self.params.map_start_pose)
+            self.slam = resume(read_graph(p.map_file_name), self.params, start, p.mode == "localization")
+        else:
+            self.slam = GridSlam(self.params)
+        self.tf = NotifyingListener(self, self._retry_pending)
         self.tf_broadcaster = TransformBroadcaster(self)
         self.map_pub = self.create_publisher(OccupancyGrid, MAP_TOPIC, LATCHED)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, POSE_TOPIC, LATCHED)
-        self._entities = [
-            self.map_pub, self.pose_pub,
-            self.create_service(SaveMap, SAVE_MAP_SERVICE, self._on_save_map),
-            self.create_service(SetBool, PAUSE_SERVICE, self._on_pause),
-        ]
+        self._entities = [self.map_pub, self.pose_pub, *SlamServices(self).create()]
+        if p.map_file_name:
+            self.load_session(self.slam, f"slam: loaded {p.map_file_name}, {p.mode}")
 
     def activate(self) -> None:
         p = self.node_params
         self._active = [self.create_subscription(LaserScanMsg, p.scan_topic, self._on_scan, SENSOR)]
         if p.transform_publish_period > 0.0:
             self._active.append(self.create_timer(p.transform_publish_period, self._send_tf))
-        self.get_logger().info(ACTIVE_MESSAGE)
+        self.get_logger().info(ACTIVE_MESSAGE.format(mode=self.node_params.mode))
 
     def inputs_heard(self) -> bool:
         """Active, with a matched publisher on the scan topic and on /tf.
@@ -214,6 +159,17 @@ class SlamNode(NavLifecycleNode):
     def _destroy(self, entity: object) -> None:
         getattr(self, f"destroy_{type(entity).__name__.lower()}")(entity)
 
+    def load_session(self, slam: GridSlam, message: str) -> None:
+        """Replace the session by a loaded one (GridSlam resuming, or GraphLocalizer) and publish its map.
+
+        map → odom is withheld until the next scan places the robot: the old correction belongs to
+        another map (or odom frame) and would be wrong.
+        """
+        self.slam, self._map_to_odom, self._pending = slam, None, None
+        self._last_map_stamp = -math.inf
+        self._publish_map(self.get_clock().now().to_msg())
+        self.get_logger().info(f"{message}: {len(slam.poses)} nodes")
+
     # -- scans: processed on arrival, or parked until their odometry arrives ----------------------
     def _now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9
@@ -224,7 +180,7 @@ class SlamNode(NavLifecycleNode):
             return
         if self._pending is not None:
             self._drop("a newer scan arrived before its odometry")
-        self._pending = _PendingScan(msg, self._now())
+        self._pending = PendingScan(msg, self._now())
         self._retry_pending()
         if self._pending is not None:
             self.parked_scans += 1
@@ -305,43 +261,6 @@ class SlamNode(NavLifecycleNode):
         data, spec = self.slam.occupancy()
         self.map_msg = occupancy_msg(data, spec, self.node_params.map_frame, stamp)
         self.map_pub.publish(self.map_msg)
-
-    # -- services --------------------------------------------------------------------------------
-    def _on_pause(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
-        if request.data and not self.paused:
-            self.ignored_scans = 0
-        elif not request.data and self.paused:
-            self.get_logger().info(f"ignored {self.ignored_scans} scans while paused")
-        self.paused = bool(request.data)
-        response.success = True
-        response.message = "new measurements paused" if self.paused else "new measurements resumed"
-        self.get_logger().info(response.message)
-        return response
-
-    def _on_save_map(self, request: SaveMap.Request, response: SaveMap.Response) -> SaveMap.Response:
-        response.result = False
-        image_format = request.image_format.lower() or "pgm"
-        mode = request.map_mode.lower() or "trinary"
-        if image_format != "pgm" or mode != "trinary":
-            self.get_logger().error(f"save_map: only pgm / trinary maps are written, got image_format="
-                                    f"{request.image_format!r}, map_mode={request.map_mode!r}")
-            return response
-        free = request.free_thresh or SAVE_FREE_THRESH
-        occupied = request.occupied_thresh or SAVE_OCCUPIED_THRESH
-        if self.slam is None or not self.slam.poses.size:
-            self.get_logger().error("save_map: no map yet (no scan processed)")
-            return response
-        data, spec = self.slam.occupancy()
-        base = Path(request.map_url or "map").expanduser()
-        try:
-            yaml_path, _ = save_map(OccupancyMap(data, spec), base, free_thresh=free,
-                                    occupied_thresh=occupied, overwrite=True)
-        except (OSError, ValueError) as error:
-            self.get_logger().error(f"save_map: cannot write {base}: {error}")
-            return response
-        self.get_logger().info(f"save_map: wrote {yaml_path} ({spec.width} x {spec.height} cells)")
-        response.result = True
-        return response
 
 
 def main(argv: list[str] | None = None) -> int:

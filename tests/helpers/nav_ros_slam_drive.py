@@ -85,6 +85,7 @@ class SlamDrive:
         self.waypoints = list(TOUR if waypoints is None else waypoints)
         self.result = DriveResult()
         self._truth: list[tuple[float, float, float]] = []  # t, x, y
+        self.pose: tuple[float, float, float] | None = None  # latest ground truth x, y, yaw (m, rad)
         self._index = 0
         self.procs = {"sim2d": start_sim(rtf, seed), "slam": start_slam(slam_params_file(directory))}
         self.probe = Node("slam_drive_probe", context=context)
@@ -112,7 +113,8 @@ class SlamDrive:
         if self._truth and t <= self._truth[-1][0]:
             return
         self._truth.append((t, p.x, p.y))
-        self._drive(p.x, p.y, 2.0 * math.atan2(q.z, q.w))
+        self.pose = (p.x, p.y, 2.0 * math.atan2(q.z, q.w))
+        self._drive(*self.pose)
 
     def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
@@ -144,6 +146,11 @@ class SlamDrive:
                 if abs(heading) < 0.15:
                     cmd.linear.x = min(MAX_V, 0.8 * dist + 0.03)
         self.cmd_pub.publish(cmd)
+
+    @property
+    def sim_time(self) -> float:
+        """Stamp (sim s) of the newest ground truth heard; -inf before the first."""
+        return self._truth[-1][0] if self._truth else -math.inf
 
     @property
     def done(self) -> bool:

@@ -20,7 +20,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 REFERENCE = REPO / "interfaces" / "type_hashes.json"
-PACKAGES = ("geographic_msgs", "bond", "tf2_msgs", "smacc2_msgs", "nav2_msgs")
+PACKAGES = ("geographic_msgs", "bond", "tf2_msgs", "smacc2_msgs", "nav2_msgs", "slam_toolbox")
 # Generated subtypes live in the file of the interface they belong to.
 SUBTYPE_SUFFIX = re.compile(
     r"_(Request|Response|Event|Goal|Result|Feedback|FeedbackMessage|SendGoal|GetResult)$"
@@ -30,7 +30,7 @@ pytestmark = pytest.mark.ros
 
 
 def reference_hashes() -> dict[str, str]:
-    """Expected hashes of every type of our five packages."""
+    """Expected hashes of every type of our six packages."""
     hashes: dict[str, str] = json.loads(REFERENCE.read_text())["hashes"]
     return {name: value for name, value in hashes.items() if name.split("/")[0] in PACKAGES}
 
@@ -43,7 +43,7 @@ def description_file(type_name: str) -> Path:
     return Path(sys.prefix) / "share" / package / kind / f"{name}.json"
 
 
-def test_reference_covers_all_five_packages() -> None:
+def test_reference_covers_all_six_packages() -> None:
     """Guards the test itself: a truncated reference file would make the hash test vacuous."""
     packages = {name.split("/")[0] for name in reference_hashes()}
     assert packages == set(PACKAGES)
@@ -78,6 +78,7 @@ def test_interfaces_import_and_serialize_without_sourcing(tmp_path: Path) -> Non
         "from bond.msg import Status\n"
         "from geographic_msgs.msg import GeoPose\n"
         "from tf2_msgs.msg import TFMessage\n"
+        "from slam_toolbox.srv import DeserializePoseGraph\n"
         "goal = NavigateToPose.Goal(behavior_tree='bt.xml')\n"
         "goal.pose.pose.position.x = 1.5\n"
         "back = deserialize_message(serialize_message(goal), NavigateToPose.Goal)\n"

@@ -59,6 +59,21 @@ class LogOddsGrid:
         self._log_odds.fill(0.0)
         self._seen.fill(False)
 
+    def state(self) -> tuple[tuple[int, int], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
+        """(cell index of element [0, 0], log-odds, seen) as copies: what a saved graph stores so
+        that a continued session starts from the very same map."""
+        return self._cell0, self._log_odds.copy(), self._seen.copy()
+
+    def load(
+        self, cell0: tuple[int, int], log_odds: npt.NDArray[np.float32], seen: npt.NDArray[np.bool_]
+    ) -> None:
+        """Replace the evidence with a saved ``state()``."""
+        if log_odds.shape != seen.shape:
+            raise ValueError(f"LogOddsGrid.load: log_odds {log_odds.shape} and seen {seen.shape} differ")
+        self._cell0 = (int(cell0[0]), int(cell0[1]))
+        self._log_odds = np.array(log_odds, dtype=np.float32, copy=True)
+        self._seen = np.array(seen, dtype=bool, copy=True)
+
     def _ensure_covers(self, xs: FloatArray, ys: FloatArray) -> GridSpec:
         """Grow the arrays so every point (m) lies on the grid; return the (new) spec."""
         res = self.resolution

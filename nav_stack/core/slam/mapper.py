@@ -22,73 +22,39 @@ Scans between processed ones only update the reported pose through the last corr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.costmap.observation import LaserScan
-from nav_stack.core.geometry import FloatArray, Pose2D, compose, to_frame
+from nav_stack.core.geometry import FloatArray, Pose2D, compose
 from nav_stack.core.grid import GridSpec
-from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
+from nav_stack.core.slam.correlation import MatchResult, SearchWindow
 from nav_stack.core.slam.laser import ScanPoints, densify, scan_points, to_map
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.loop_closure import candidate_chains, graph_hops, search_half_extent, verified
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.pose_graph import Edge, optimize
+from nav_stack.core.slam.serialization import SlamGraph
+from nav_stack.core.slam.shared import (
+    IDENTITY,
+    SlamUpdate,
+    between,
+    check_inputs,
+    due,
+    inverse,
+    loop_information,
+    match_scan,
+)
 
-IDENTITY = Pose2D(0.0, 0.0, 0.0)
 # Below this mean smear the running-buffer match is not trusted and odometry is kept
 # (slam_toolbox's link_match_minimum_response_fine default).
 _MIN_LINK_RESPONSE = 0.1
-# Fewer usable reference or scan points than this make a match meaningless.
-_MIN_MATCH_POINTS = 20
 # Neighbouring returns closer than this (m) lie on one surface and are joined for the refinement.
 _JOIN_GAP = 0.15
 # At most this many scans near the robot (besides the running buffer) are refined against.
 _MAX_REFINE_NODES = 30
-
-
-def between(a: Pose2D, b: Pose2D) -> Pose2D:
-    """Pose ``b`` expressed in the frame of pose ``a`` (a⁻¹ ∘ b)."""
-    x, y, yaw = to_frame(np.array([b], dtype=np.float64), a)[0]
-    return Pose2D(float(x), float(y), float(yaw))
-
-
-def inverse(a: Pose2D) -> Pose2D:
-    """The inverse transform a⁻¹."""
-    return between(a, IDENTITY)
-
-
-def loop_information(covariance: FloatArray, yaw: float) -> FloatArray:
-    """Information of a loop edge anchor → j from the covariance (map frame) of j's matched pose.
-
-    The edge error t2v(Z⁻¹ Xi⁻¹ Xj) moves with Xj in Xj's own frame, so the covariance is rotated
-    by node j's ``yaw`` (rad) before it is inverted. (Rotating by the anchor's yaw, as before,
-    swapped the along- and across-corridor variances of a closure made at a right angle.)
-    """
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    return np.asarray(np.linalg.inv(rot.T @ covariance @ rot), dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class SlamUpdate:
-    """What one ``process`` call produced.
-
-    Attributes:
-        map_to_odom: the correction to publish as the map → odom transform.
-        pose: robot (base frame) pose in the map.
-        processed: the scan became a pose-graph node (else it only refreshed ``pose``).
-        response: scan-match response in [0, 1] of a processed scan (0 when not matched).
-        loop_closed: a loop closure was accepted on this scan.
-    """
-
-    map_to_odom: Pose2D
-    pose: Pose2D
-    processed: bool
-    response: float = 0.0
-    loop_closed: bool = False
 
 
 class GridSlam:
@@ -105,6 +71,8 @@ class GridSlam:
         )
         self._poses: FloatArray = np.zeros((0, 3))
         self._odom: list[Pose2D] = []
+        self._raw: list[tuple[LaserScan, Pose2D]] = []  # each node's scan and laser pose, for saving
+        self._restart: Pose2D | None = None  # where a restored session resumes (restart_at)
         self._scans: list[ScanPoints] = []
         self._dense: list[FloatArray] = []  # hits of each scan joined into lines (robot frame)
         self._adjacency: list[list[int]] = []
@@ -152,11 +120,9 @@ class GridSlam:
 
         ``laser_pose`` is the sensor pose in the robot base frame (TF base_footprint → base_scan).
         """
-        for name, value in (("odom_pose", odom_pose), ("laser_pose", laser_pose)):
-            if not all(math.isfinite(v) for v in value):
-                raise ValueError(f"GridSlam.process: {name} must be finite, got {tuple(value)}")
-        if not math.isfinite(stamp):
-            raise ValueError(f"GridSlam.process: stamp must be finite, got {stamp}")
+        check_inputs(odom_pose, laser_pose, stamp)
+        if self._restart is not None and self._odom:
+            return self._resume(scan, odom_pose, stamp, laser_pose)
         if not self._odom:
             start = Pose2D(*self.params.map_start_pose)
             self._map_to_odom = compose(start, inverse(odom_pose))
@@ -166,13 +132,8 @@ class GridSlam:
                 f"GridSlam.process: stamp {stamp} is older than the last processed scan {self._stamp}"
             )
         predicted = compose(self._map_to_odom, odom_pose)
-        moved = between(self._odom[-1], odom_pose)
         p = self.params
-        far_enough = (
-            math.hypot(moved.x, moved.y) >= p.minimum_travel_distance
-            or abs(moved.yaw) >= p.minimum_travel_heading
-        )
-        if not far_enough or stamp - self._stamp < p.minimum_time_interval:
+        if not due(p, self._odom[-1], odom_pose, stamp - self._stamp):
             return SlamUpdate(self._map_to_odom, predicted, processed=False)
         points = scan_points(scan, laser_pose, p.max_laser_range)
         pose, response = predicted, 0.0
@@ -187,6 +148,63 @@ class GridSlam:
             self._map_to_odom = compose(pose, inverse(odom_pose))
             return SlamUpdate(self._map_to_odom, pose, True, response, loop_closed=True)
         return update
+
+    def restart_at(self, pose: Pose2D) -> None:
+        """Resume a restored session with the robot at ``pose`` (map frame) on the next scan.
+
+        Why: the saving session's odometry means nothing to the new one, so the next scan is placed
+        by matching it against the map around ``pose`` and joins the graph from there.
+        """
+        self._restart = pose
+        self._stamp = -math.inf
+
+    def _resume(self, scan: LaserScan, odom_pose: Pose2D, stamp: float, laser_pose: Pose2D) -> SlamUpdate:
+        start, self._restart = self._restart, None
+        assert start is not None
+        points = scan_points(scan, laser_pose, self.params.max_laser_range)
+        result = self._match_running_buffer(points, start)
+        if result is None or result.response < _MIN_LINK_RESPONSE:
+            return self._add_node(scan, odom_pose, start, stamp, laser_pose, 0.0, points)
+        return self._add_node(scan, odom_pose, result.pose, stamp, laser_pose, result.response, points)
+
+    def graph(self) -> SlamGraph:
+        """The session (nodes, scans, edges, map) for serialization.write_graph."""
+        if self._map_dirty:
+            self._rebuild_map()
+        cell0, log_odds, seen = self._grid.state()
+        scans = tuple(scan for scan, _ in self._raw)
+        lasers = np.array([laser for _, laser in self._raw], dtype=np.float64).reshape(-1, 3)
+        odom = np.array(self._odom, dtype=np.float64).reshape(-1, 3)
+        return SlamGraph(self.params, self.poses, odom, scans, lasers, self.edges, cell0, log_odds, seen,
+                         self._map_to_odom, self.loop_closures)
+
+    @classmethod
+    def from_graph(cls, graph: SlamGraph, params: SlamParams | None = None) -> GridSlam:
+        """A mapper holding a saved session, resuming at its first node unless ``restart_at`` says
+        otherwise. ``params`` (default: the saved ones) must keep the saved resolution: the map is
+        restored cell for cell."""
+        slam = cls(params or graph.params)
+        if slam.params.resolution != graph.params.resolution:
+            raise ValueError(f"the saved graph has resolution {graph.params.resolution} m, the "
+                             f"parameters {slam.params.resolution} m")
+        slam._poses = np.array(graph.poses, dtype=np.float64).reshape(-1, 3)
+        for k, scan in enumerate(graph.scans):
+            laser = Pose2D(*map(float, graph.laser_poses[k]))
+            points = scan_points(scan, laser, slam.params.max_laser_range)
+            slam._raw.append((scan, laser))
+            slam._odom.append(Pose2D(*map(float, graph.odom[k])))
+            slam._scans.append(points)
+            slam._dense.append(densify(points.hits, 0.5 * slam.params.refine_resolution, _JOIN_GAP))
+            slam._adjacency.append([])
+        for edge in graph.edges:
+            slam._edges.append(edge)
+            slam._adjacency[edge.i].append(edge.j)
+            slam._adjacency[edge.j].append(edge.i)
+        slam._grid.load(graph.grid_cell0, graph.grid_log_odds, graph.grid_seen)
+        slam._map_to_odom, slam.loop_closures = graph.map_to_odom, graph.loop_closures
+        if len(slam._poses):
+            slam.restart_at(Pose2D(*map(float, slam._poses[0])))
+        return slam
 
     def occupancy(self) -> tuple[npt.NDArray[np.int8], GridSpec]:
         """The map as OccupancyGrid values (100 occupied, 0 free, -1 unknown) and its GridSpec (map frame)."""
@@ -209,6 +227,7 @@ class GridSlam:
         index = len(self._odom)
         self._poses = np.vstack((self._poses, np.array([pose], dtype=np.float64)))
         self._odom.append(odom_pose)
+        self._raw.append((scan, laser_pose))
         self._scans.append(points)
         self._dense.append(densify(points.hits, 0.5 * self.params.refine_resolution, _JOIN_GAP))
         self._adjacency.append([])
@@ -240,37 +259,6 @@ class GridSlam:
         parts = [to_map(self._dense[k], Pose2D(*self._poses[k])) for k in indices]
         return np.vstack(parts) if parts else np.zeros((0, 2))
 
-    def _subsample(self, hits: FloatArray) -> FloatArray:
-        step = max(1, math.ceil(len(hits) / self.params.max_scan_points))
-        return hits[::step]
-
-    def _match(
-        self,
-        reference: FloatArray,
-        hits: FloatArray,
-        prior: Pose2D,
-        window: SearchWindow,
-        fine_reference: FloatArray | None = None,
-    ) -> MatchResult | None:
-        if len(reference) < _MIN_MATCH_POINTS or len(hits) < _MIN_MATCH_POINTS:
-            return None
-        p = self.params
-        half = p.max_laser_range + window.half_extent + 3.0 * p.correlation_search_space_smear_deviation
-        grid = CorrelationGrid(
-            reference, (prior.x, prior.y), half, p.resolution, p.correlation_search_space_smear_deviation
-        )
-        fine = None
-        if window.refine_iterations > 0:
-            fine_half = p.max_laser_range + window.half_extent + 3.0 * p.refine_smear_deviation
-            fine = CorrelationGrid(
-                reference if fine_reference is None else fine_reference,
-                (prior.x, prior.y),
-                fine_half,
-                p.refine_resolution,
-                p.refine_smear_deviation,
-            )
-        return match(grid, self._subsample(hits), prior, window, fine)
-
     def _match_running_buffer(self, points: ScanPoints, predicted: Pose2D) -> MatchResult | None:
         p = self.params
         recent = range(max(0, len(self._odom) - p.scan_buffer_size), len(self._odom))
@@ -291,7 +279,7 @@ class GridSlam:
         close = np.argsort(d)[:_MAX_REFINE_NODES]
         close = close[d[close] <= p.refine_scan_distance]
         fine_reference = self._dense_hits_in_map(sorted(set(close.tolist()) | set(buffer)))
-        return self._match(reference, points.hits, predicted, self._link_window, fine_reference)
+        return match_scan(self.params, reference, points.hits, predicted, self._link_window, fine_reference)
 
     def _try_loop_closure(self) -> bool:
         """Match the newest scan against the nearest unlinked chain within the graph's uncertainty;
@@ -314,7 +302,7 @@ class GridSlam:
         prior = Pose2D(*self._poses[current])
         half = search_half_extent(graph_hops(self._adjacency, current, chain), p)
         window = replace(self._loop_window, half_extent=half)
-        result = self._match(
+        result = match_scan(self.params,
             self._hits_in_map(chain), self._scans[current].hits, prior, window, self._dense_hits_in_map(chain)
         )
         if result is None or not verified(result, p):

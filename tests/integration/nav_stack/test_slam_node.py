@@ -1,4 +1,5 @@
-"""The slam node in-process with a fake robot (analytic hexagon room): map, pose, TF, pause, save_map.
+"""The slam node in-process with a fake robot (analytic hexagon room): map, pose, TF, pause, save_map,
+and slam_toolbox's Pause / serialize_map / deserialize_map refusing what they cannot do.
 
 The fake robot publishes TF and a scan per step on a fake timeline (tests/helpers/nav_ros_slam_fakes.py);
 each step waits for the node's ``slam/pose`` of that stamp, so no scan is dropped by the node's
@@ -22,12 +23,13 @@ from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from slam_toolbox.srv import DeserializePoseGraph, Pause, SerializePoseGraph
 from std_srvs.srv import SetBool
 
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.map_io import load_map
-from nav_stack.core.slam import GridSlam
+from nav_stack.core.slam import GraphFileError, GridSlam, read_graph
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_node import SlamNode
@@ -189,3 +191,57 @@ def test_save_map_writes_a_map_that_map_io_loads(rig: Any, tmp_path: Path) -> No
     assert loaded.spec == spec
     np.testing.assert_array_equal(loaded.data, data)
     assert (loaded.data == 100).sum() > 100 and (loaded.data == 0).sum() > 1000
+
+
+def test_pause_toggles_and_bad_requests_leave_the_node_serving(rig: Any, tmp_path: Path) -> None:
+    slam, robot, probe = rig
+    pause = probe.create_client(Pause, "/slam_toolbox/pause_new_measurements")
+    serialize = probe.create_client(SerializePoseGraph, "/slam_toolbox/serialize_map")
+    deserialize = probe.create_client(DeserializePoseGraph, "/slam_toolbox/deserialize_map")
+    assert probe.call(pause, Pause.Request()).status and slam.paused
+    assert probe.call(pause, Pause.Request()).status and not slam.paused
+
+    # No scan yet: nothing to write.
+    failed = SerializePoseGraph.Response.RESULT_FAILED_TO_WRITE_FILE
+    assert probe.call(serialize, SerializePoseGraph.Request(filename=str(tmp_path / "a"))).result == failed
+
+    drive(robot, probe, tour(robot.world)[:30], slam)
+    nodes = len(slam.slam.poses)
+    assert nodes >= 3
+    base = tmp_path / "room"
+    ok = SerializePoseGraph.Response.RESULT_SUCCESS
+    assert probe.call(serialize, SerializePoseGraph.Request(filename=str(base))).result == ok
+    unwritable = SerializePoseGraph.Request(filename=str(tmp_path / "no" / "dir"))
+    assert probe.call(serialize, unwritable).result == failed
+    for request in (
+        DeserializePoseGraph.Request(filename=str(base), match_type=DeserializePoseGraph.Request.UNSET),
+        DeserializePoseGraph.Request(filename=str(tmp_path / "missing"), match_type=1),
+    ):
+        probe.call(deserialize, request)
+        assert len(slam.slam.poses) == nodes, "a refused deserialize replaced the session"
+    # A good one replaces the session and publishes its map at once.
+    maps = len(probe.maps)
+    probe.call(deserialize, DeserializePoseGraph.Request(
+        filename=str(base), match_type=DeserializePoseGraph.Request.LOCALIZE_AT_POSE))
+    wait_until(lambda: len(probe.maps) > maps, 10.0, "the loaded map")
+    assert type(slam.slam).__name__ == "GraphLocalizer" and len(read_graph(base).poses) == nodes
+
+
+def test_a_graph_that_cannot_be_loaded_fails_configure_naming_it(ros_context: Any, tmp_path: Path) -> None:
+    missing = tmp_path / "missing"
+    slam = SlamNode(context=ros_context, parameter_overrides=[
+        Parameter("mode", value="localization"), Parameter("map_file_name", value=str(missing))])
+    try:
+        with pytest.raises(GraphFileError, match=r"missing\.posegraph"):
+            slam.configure()
+    finally:
+        slam.destroy_node()
+
+
+def test_localization_without_a_graph_is_refused_naming_the_parameter(ros_context: Any) -> None:
+    slam = SlamNode(context=ros_context, parameter_overrides=[Parameter("mode", value="localization")])
+    try:
+        with pytest.raises(ValueError, match="map_file_name"):
+            slam.configure()
+    finally:
+        slam.destroy_node()

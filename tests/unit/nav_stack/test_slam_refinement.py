@@ -15,7 +15,7 @@ import numpy as np
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import CorrelationGrid, GridSlam, SearchWindow, SlamParams, match, scan_points
 from nav_stack.core.slam.laser import densify, to_map
-from nav_stack.core.slam.mapper import loop_information
+from nav_stack.core.slam.shared import loop_information
 from tests.helpers.slam_world import NoisyOdometry, interpolate, ring_world
 from tests.unit.nav_stack.test_slam_loop_closure import LAP, START
 
