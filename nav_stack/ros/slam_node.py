@@ -127,15 +127,20 @@ class SlamNode(NavLifecycleNode):
         self.get_logger().info(ACTIVE_MESSAGE.format(mode=self.node_params.mode))
 
     def inputs_heard(self) -> bool:
-        """Active, with a matched publisher on the scan topic and on /tf.
+        """Active, with a matched publisher on the scan topic and another node publishing on /tf.
 
         Why: the first scan mapped is taken to be at ``map_start_pose``. Lockstep waits for this
         (``main``'s ``ready``) so that the simulator does not drive off while the scan subscription
         is still matching: a CI run mapped its first scan 0.6 m from the start, and the whole tour
-        was that far off.
+        was that far off. A /tf publisher of another node, not any: this node's own map → odom
+        broadcaster would count, and a fresh node restarted on a serialized graph in a running world
+        then missed a whole leg of odometry. (Not the odometry itself: the simulator publishes none
+        before its first step, which waits for this.)
         """
         scan: Any = self._active[0] if self._active else None  # activate() puts the subscription first
-        return scan is not None and scan.get_publisher_count() > 0 and self.count_publishers("/tf") > 0
+        others = [info for info in self.get_publishers_info_by_topic("/tf")
+                  if (info.node_name, info.node_namespace) != (self.get_name(), self.get_namespace())]
+        return scan is not None and scan.get_publisher_count() > 0 and bool(others)
 
     def deactivate(self) -> None:
         self._pending = None
