@@ -62,13 +62,20 @@ def ideal_odometry_params() -> Path:
     return Path(name)
 
 
-def start_sim(rtf: float = 3.0, stamped: bool = False) -> subprocess.Popen[str]:
-    """sim2d with ideal odometry at the TB3 spawn pose; stop it with ``stop_process``."""
+def start_sim(rtf: float | str = 3.0, stamped: bool = False, lockstep: bool = False) -> subprocess.Popen[str]:
+    """sim2d with ideal odometry at the TB3 spawn pose; stop it with ``stop_process``.
+
+    ``lockstep``: the simulator waits for whichever lockstep participants report (none are expected,
+    so it runs freely until a test's participant joins; see tests/integration/nav_stack/
+    test_controller_server.py).
+    """
     args = ["--world", "turtlebot3_world", "--robot", "waffle", "--rtf", str(rtf),
             "--x", str(SPAWN[0]), "--y", str(SPAWN[1]), "--yaw", str(SPAWN[2]),
             "--params-file", str(ideal_odometry_params())]
     if stamped:
         args.append("--stamped")
+    if lockstep:
+        args.append("--lockstep")
     return start_python("sim2d.ros.cli", args)
 
 

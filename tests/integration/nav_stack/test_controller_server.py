@@ -1,10 +1,19 @@
-"""controller_server on sim2d: DWB and RPP drive planned paths, preemption, cancel, selectors, error codes."""
+"""controller_server on sim2d: DWB and RPP drive planned paths, preemption, cancel, selectors, error codes.
+
+sim2d runs in lockstep with this process (the planner and controller servers spin in the harness's
+executor with the ``controller_test`` participant), so the robot moves by sim time, not by how
+quickly this loaded machine answers. Where a test acts on the robot's motion (a new path once it
+drives), the simulator is held from the first moving command until the test has acted: a CI run on
+a busy machine (2026-11-27) planned the new path 0.7 m further on than usual, next to a pillar,
+and DWB found no valid trajectory from there.
+"""
 
 from __future__ import annotations
 
 import math
 import subprocess
-from collections.abc import Iterator
+import threading
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
@@ -20,6 +29,7 @@ from std_msgs.msg import String
 
 from nav_stack.ros import controller_server, planner_server
 from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_world import (
     LATCHED,
     Harness,
@@ -34,11 +44,13 @@ from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 Codes = FollowPath.Result
+LOCKSTEP_ROLE = "controller_test"
+HOLD_GRACE = 4.0  # wall s; under the simulator's lockstep.timeout (5 s), which would drop this test
 
 
 @pytest.fixture(scope="module")
 def sim() -> Iterator[subprocess.Popen[str]]:
-    proc = start_sim(rtf=2.0)
+    proc = start_sim(rtf=2.0, lockstep=True)
     try:
         yield proc
     finally:
@@ -57,7 +69,9 @@ class Stack:
         self.controller_nodes = controller_server.build_nodes(use_sim_time=True, context=context,
                                                               cli_args=server_args())
         self.cmds: list[Twist] = []
-        self.probe.create_subscription(Twist, "/cmd_vel", self.cmds.append, 100)
+        self.probe.create_subscription(Twist, "/cmd_vel", self._on_cmd, 100)
+        self.lockstep: LockstepParticipant | None = None
+        self._hold_until: Callable[[], bool] | None = None
         self.harness.add(self.world, self.probe, *self.planner_nodes, *self.controller_nodes)
         self.planner = ActionClient(self.probe, ComputePathToPose, "compute_path_to_pose")
         self.follow = ActionClient(self.probe, FollowPath, "follow_path")
@@ -69,6 +83,23 @@ class Stack:
         self.harness.bring_up(self.controller_nodes[0])
         wait_until(self.planner_nodes[1].ready.done, 40.0, "global costmap never updated")
         wait_until(self.controller_nodes[1].ready.done, 40.0, "local costmap never updated")
+        self.lockstep = LockstepParticipant(self.probe, LOCKSTEP_ROLE)
+
+    def close(self) -> None:
+        if self.lockstep is not None:
+            self.lockstep.destroy()  # leaves: the simulator no longer waits for this test
+        self.harness.close()
+
+    def hold_when_moving(self, until: Callable[[], bool]) -> None:
+        """Hold the simulator from the first moving command (in the executor, not this thread's
+        polling) until ``until()`` is true, at most HOLD_GRACE s of wall time."""
+        self._hold_until = until
+
+    def _on_cmd(self, msg: Twist) -> None:
+        self.cmds.append(msg)
+        if self._hold_until is not None and self.lockstep is not None and self.moving():
+            self.lockstep.hold(self._hold_until, HOLD_GRACE)
+            self._hold_until = None
 
     def plan(self, x: float, y: float, yaw: float = 0.0) -> Path:
         goal = PoseStamped()
@@ -90,7 +121,7 @@ def stack(ros_context: Any, sim: subprocess.Popen[str]) -> Iterator[Stack]:
         s.start()
         yield s
     finally:
-        s.harness.close()
+        s.close()
 
 
 def _report(stack: Stack, goal: tuple[float, float, float], label: str) -> tuple[float, float]:
@@ -123,6 +154,8 @@ def test_rpp_follows_a_planned_path_to_the_goal(stack: Stack) -> None:
 
 
 def test_dwb_takes_a_new_path_without_stopping(stack: Stack) -> None:
+    replaced = threading.Event()
+    stack.hold_when_moving(replaced.is_set)
     first = send_goal(stack.follow, FollowPath.Goal(path=stack.plan(2.0, 0.0), controller_id="DWB"))
     local_plans: list[Path] = []
     stack.probe.create_subscription(Path, "/local_plan", local_plans.append, 10)
@@ -130,6 +163,7 @@ def test_dwb_takes_a_new_path_without_stopping(stack: Stack) -> None:
     new_path = stack.plan(0.0, 2.0, math.pi / 2)
     seen = len(stack.cmds)
     second = send_goal(stack.follow, FollowPath.Goal(path=new_path, controller_id="DWB"))
+    replaced.set()
     status, result = get_result(first, 10.0)
     assert (status, result.error_code) == (GoalStatus.STATUS_ABORTED, Codes.NONE)
     assert "preempted" in result.error_msg
