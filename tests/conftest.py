@@ -8,18 +8,19 @@
   (NAVSUITE_LOG_DIR, a fresh temporary directory per worker), not to the user's artifacts/logs: two
   test workers running the stack at once would otherwise write the same files.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
-* After every test, nodes whose context was shut down are destroyed (``_release_dds_participants``):
-  a node outliving its context keeps that context's DDS participant alive, and with localhost
-  discovery a domain holding more than about 30 participants stops discovering new ones.
+* After every test that shut an rclpy context down, nodes whose context was shut down are destroyed
+  (``_release_dds_participants``): a node outliving its context keeps that context's DDS participant
+  alive, and with localhost discovery a domain holding more than about 30 participants stops
+  discovering new ones.
 """
 
 from __future__ import annotations
 
 import fcntl
 import os
-import sys
 import tempfile
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -70,11 +71,40 @@ def ros_context() -> Iterator[object]:
             rclpy.shutdown(context=context)
 
 
+_shutdowns = [0]  # rclpy contexts shut down since the last release (see _count_context_shutdowns)
+
+
+def _count_context_shutdowns() -> None:
+    """Count every rclpy ``Context.shutdown`` / ``try_shutdown`` of this session in ``_shutdowns``.
+
+    Why: only a shut-down context can leave nodes holding a DDS participant behind, and the release
+    (a full ``gc.collect`` and a walk over every object) costs up to a second per test once numba,
+    matplotlib and rclpy fill the heap: run after every test it was 0.9 s x 888 unit tests, most of
+    a CI run's teardown time (full suite with --durations=0, 2026-11-27). A module-scoped stack
+    shut down at its module's end is released after the next test.
+    """
+    from rclpy.context import Context
+
+    for name in ("shutdown", "try_shutdown"):
+        original = getattr(Context, name)
+
+        def counted(self: Context, _original: Any = original) -> None:
+            _shutdowns[0] += 1
+            _original(self)
+
+        setattr(Context, name, counted)
+
+
+_count_context_shutdowns()
+
+
 @pytest.fixture(autouse=True)
 def _release_dds_participants() -> Iterator[None]:
-    """After each test, free the DDS participants of the nodes it left behind (see the module doc)."""
+    """After a test in which an rclpy context was shut down, free the DDS participants of the nodes
+    it left behind (see the module doc)."""
     yield
-    if "rclpy.node" in sys.modules:  # only tests that used rclpy can have left participants
+    if _shutdowns[0]:
         from tests.helpers.ros import release_dds_participants
 
+        _shutdowns[0] = 0
         release_dds_participants()
