@@ -74,7 +74,7 @@ class ProcessSpec:
     required: bool = True
 
 
-def _die_with_parent() -> None:
+def die_with_parent() -> None:
     """Runs in the child before exec: ask the kernel for SIGTERM when the launcher dies."""
     with contextlib.suppress(OSError):
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
@@ -101,7 +101,7 @@ class _Running:
         try:
             self.proc = subprocess.Popen(
                 list(spec.cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
-                start_new_session=True, preexec_fn=_die_with_parent, bufsize=1,
+                start_new_session=True, preexec_fn=die_with_parent, bufsize=1,
             )
         except OSError:
             if log is not None:

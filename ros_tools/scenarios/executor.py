@@ -2,8 +2,9 @@
 
 Each job becomes one ``python -m ros_tools.scenarios.worker`` process, in a session of its own, on a
 ROS_DOMAIN_ID claimed for it alone (``domains``), with localhost discovery. A backend only has to turn
-a ``Job`` into a ``concurrent.futures.Future[Outcome]``, so a Ray backend (one task per job, on the node
-it lands on) fits the same interface later; the farm never looks past ``submit`` and ``shutdown``.
+a ``Job`` into a ``concurrent.futures.Future[Outcome]``; the farm never looks past ``submit`` and
+``shutdown``. ``run_job`` is one job's whole run on this machine: the local backend calls it from its
+threads, the Ray backend (``cluster``) from a task on the node the task landed on.
 
 Nothing is left behind: every process of a job inherits a marker in its environment
 (``NAVSUITE_SCENARIO_RUN``), and once the worker ended (or was killed at its deadline) any process
@@ -13,6 +14,7 @@ still carrying the marker is killed and counted in the outcome's detail.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import json
 import os
 import signal
@@ -27,6 +29,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Protocol
 
+from ros_tools.launch import die_with_parent
 from ros_tools.scenarios.commands import COMMAND_MARGIN
 from ros_tools.scenarios.domains import DomainPool
 from ros_tools.scenarios.schema import Scenario
@@ -85,52 +88,93 @@ class LocalExecutor:
             return Outcome("ERROR", "cancelled before it started")
         if on_start is not None:
             on_start()
-        started = time.monotonic()
-        job.artifact_dir.mkdir(parents=True, exist_ok=True)
-        result_file = job.artifact_dir / "result.json"
-        result_file.unlink(missing_ok=True)
         marker = f"{self._run_id}:{job.scenario.name}"
-        with self._domains.claim() as domain:
-            env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-                       NAVSUITE_LOG_DIR=str(job.artifact_dir / "logs"), PYTHONUNBUFFERED="1",
-                       **{MARKER: marker})
-            with (job.artifact_dir / "worker.log").open("wb") as log:
-                proc = subprocess.Popen(
-                    [sys.executable, "-m", "ros_tools.scenarios.worker", str(job.source), job.scenario.name,
-                     str(job.artifact_dir)],
-                    stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
-                with self._lock:
-                    self._live[marker] = proc
-                    if self._cancelled.is_set():  # cancelled while it was starting
-                        _signal_group(proc, signal.SIGTERM)
-                killed = self._wait(proc, hard_limit(job.scenario))
-                with self._lock:
-                    self._live.pop(marker, None)
-            leftovers = sweep(marker)
-        outcome = _read(result_file, proc.returncode)
-        if killed:
-            limit = hard_limit(job.scenario)
-            outcome = Outcome("TIMEOUT", f"the farm stopped the run after {limit:.0f} s wall",
-                              artifacts=outcome.artifacts)
-        if leftovers:
-            detail = f"{outcome.detail}; {leftovers} process(es) left behind, killed"
-            outcome = replace(outcome, detail=detail)
-        return replace(outcome, wall_time=time.monotonic() - started)
+        try:
+            return run_job(job, self._domains, marker, lambda proc: self._track(marker, proc))
+        finally:
+            with self._lock:
+                self._live.pop(marker, None)
 
-    def _wait(self, proc: subprocess.Popen[bytes], limit: float) -> bool:
-        """Wait for the worker; past ``limit`` s (wall) stop it. True when it had to be stopped."""
-        try:
-            proc.wait(timeout=limit)
-            return False
-        except subprocess.TimeoutExpired:
-            pass
-        _signal_group(proc, signal.SIGTERM)
-        try:
-            proc.wait(timeout=STOP_GRACE)
-        except subprocess.TimeoutExpired:
-            _signal_group(proc, signal.SIGKILL)
-            proc.wait()
-        return True
+    def _track(self, marker: str, proc: subprocess.Popen[bytes]) -> None:
+        with self._lock:
+            self._live[marker] = proc
+            if self._cancelled.is_set():  # cancelled while it was starting
+                _signal_group(proc, signal.SIGTERM)
+
+
+def run_job(job: Job, domains: DomainPool, marker: str,
+            on_spawn: Callable[[subprocess.Popen[bytes]], None] | None = None) -> Outcome:
+    """Run ``job``'s worker process to its end on this machine: the unit every backend runs.
+
+    The worker gets a ROS_DOMAIN_ID claimed from ``domains`` (held until its last process is gone),
+    localhost discovery and ``MARKER=marker``; ``on_spawn`` sees the process as soon as it exists (to
+    stop it on cancel). The worker dies with the thread that started it (PR_SET_PDEATHSIG), so a
+    backend's process that is killed takes its scenario down with it rather than leave it running on
+    a domain id it no longer holds. An exception while waiting (a cancelled Ray task gets
+    KeyboardInterrupt) stops the worker and is passed on.
+    """
+    started = time.monotonic()
+    job.artifact_dir.mkdir(parents=True, exist_ok=True)
+    result_file = job.artifact_dir / "result.json"
+    result_file.unlink(missing_ok=True)
+    with domains.claim() as domain:
+        env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+                   NAVSUITE_LOG_DIR=str(job.artifact_dir / "logs"), PYTHONUNBUFFERED="1",
+                   **{MARKER: marker})
+        with (job.artifact_dir / "worker.log").open("wb") as log:
+            proc = subprocess.Popen(
+                [sys.executable, "-m", "ros_tools.scenarios.worker", str(job.source), job.scenario.name,
+                 str(job.artifact_dir)],
+                stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True,
+                preexec_fn=_child_setup)
+            if on_spawn is not None:
+                on_spawn(proc)
+            killed = _wait(proc, hard_limit(job.scenario))
+        leftovers = sweep(marker)
+    outcome = _read(result_file, proc.returncode)
+    if killed:
+        limit = hard_limit(job.scenario)
+        outcome = Outcome("TIMEOUT", f"the farm stopped the run after {limit:.0f} s wall",
+                          artifacts=outcome.artifacts)
+    if leftovers:
+        detail = f"{outcome.detail}; {leftovers} process(es) left behind, killed"
+        outcome = replace(outcome, detail=detail)
+    return replace(outcome, wall_time=time.monotonic() - started)
+
+
+def _child_setup() -> None:
+    """Runs in the worker between fork and exec: die with the thread that started it, and start from
+    the default handling of every signal. A Ray worker ignores and blocks SIGINT, and both survive
+    exec: inherited, they would make the scenario's processes deaf to its launcher's orderly stop."""
+    die_with_parent()
+    signal.pthread_sigmask(signal.SIG_SETMASK, set())
+    libc = ctypes.CDLL("libc.so.6", use_errno=True)
+    for sig in (signal.SIGINT, signal.SIGQUIT):  # signal.signal refuses to run off the main thread
+        libc.signal(int(sig), 0)  # SIG_DFL
+
+
+def _wait(proc: subprocess.Popen[bytes], limit: float) -> bool:
+    """Wait for the worker; past ``limit`` s (wall) stop it. True when it had to be stopped."""
+    try:
+        proc.wait(timeout=limit)
+        return False
+    except subprocess.TimeoutExpired:
+        pass
+    except BaseException:
+        _stop(proc)
+        raise
+    _stop(proc)
+    return True
+
+
+def _stop(proc: subprocess.Popen[bytes]) -> None:
+    """SIGTERM the worker's process group; SIGKILL STOP_GRACE s later if it is still there."""
+    _signal_group(proc, signal.SIGTERM)
+    try:
+        proc.wait(timeout=STOP_GRACE)
+    except subprocess.TimeoutExpired:
+        _signal_group(proc, signal.SIGKILL)
+        proc.wait()
 
 
 def hard_limit(scenario: Scenario) -> float:
@@ -160,15 +204,15 @@ def processes_with_env(entry: str) -> list[int]:
     """PIDs of this user's processes (this one excepted) whose environment has ``entry`` (NAME=value)."""
     needle = entry.encode() + b"\0"
     found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit() or int(proc.name) == os.getpid():
             continue
         try:
-            environ = (entry / "environ").read_bytes()
+            environ = (proc / "environ").read_bytes()
         except OSError:
             continue
         if needle in environ:
-            found.append(int(entry.name))
+            found.append(int(proc.name))
     return found
 
 

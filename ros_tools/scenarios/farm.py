@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ros_tools.scenarios.executor import Executor, Job
 from ros_tools.scenarios.schema import Scenario
+from ros_tools.scenarios.schema_fields import INJECTED_EVENTS
 from ros_tools.scenarios.summary import ScenarioResult
 from ros_tools.scenarios.verdict import Outcome, judge
 
@@ -71,5 +72,6 @@ def _judged(scenario: Scenario, future: Future[Outcome]) -> ScenarioResult:
 
 
 def injected_events(scenario: Scenario) -> int:
-    """Events applied at sim time by the injector (kidnaps); battery levels go in before the start."""
-    return sum(event.kind == "kidnap" for event in scenario.events)
+    """Events applied at sim time by the injector (schema_fields.INJECTED_EVENTS); battery levels go in
+    before the start."""
+    return sum(event.kind in INJECTED_EVENTS for event in scenario.events)

@@ -5,12 +5,15 @@ Examples::
     navsuite-scenarios run config/scenarios/seed_missions.yaml --workers 2
     navsuite-scenarios run config/scenarios/seed_missions.yaml -k seed_nominal -k 'patrol_*'
     navsuite-scenarios check config/scenarios/seed_missions.yaml     # validate and list, run nothing
+    navsuite-scenarios run config/scenarios/seed_missions.yaml --ray auto   # on a Ray cluster
 
 Each scenario runs as its own processes (the mission command, its stack, a recorder) on a ROS domain
 id claimed for it alone (``--domains``, default 51-100), localhost discovery, lockstep at ``--rtf max``.
 Its recording, run report and logs go to ``<out>/<scenario>/``; ``<out>/summary.html`` and
-``<out>/junit.xml`` sum the run up. Exit status: 0 when every selected scenario passed, 1 when one
-failed, 2 on an invalid file or arguments, 130 on Ctrl-C (every process of the run is stopped).
+``<out>/junit.xml`` sum the run up. With ``--ray ADDRESS`` the scenarios run as Ray tasks on a cluster
+(``cluster``; ``pip install navsuite[cluster]``) and their artifacts come back here. Exit status: 0
+when every selected scenario passed, 1 when one failed, 2 on an invalid file or arguments (or Ray
+missing or unreachable), 130 on Ctrl-C (every process of the run is stopped).
 """
 
 from __future__ import annotations
@@ -21,9 +24,13 @@ import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ros_tools.scenarios import domains
 from ros_tools.scenarios.schema import Scenario, ScenarioError, load_scenarios
+
+if TYPE_CHECKING:
+    from ros_tools.scenarios.executor import Executor
 
 REPO = Path(__file__).resolve().parents[2]
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
@@ -45,10 +52,17 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                      help="ROS_DOMAIN_ID range the runs claim from, FIRST-LAST (default "
                           f"$NAVSUITE_SCENARIO_DOMAINS or {domains.DEFAULT_TEXT}; ids held by test sessions, "
                           "benchmarks or other farms are skipped)")
+    run.add_argument("--ray", metavar="ADDRESS", default=None,
+                     help="run on the Ray cluster at ADDRESS (host:port, or 'auto' for the one started on "
+                          "this machine) instead of local workers; needs pip install navsuite[cluster]")
+    run.add_argument("--ray-cpus", type=float, default=1.0, metavar="N",
+                     help="CPUs each scenario's Ray task asks for (default 1)")
     options = parser.parse_args(argv)
     if options.command == "run":
         if options.workers < 1:
             parser.error(f"--workers must be >= 1, got {options.workers}")
+        if options.ray_cpus <= 0:
+            parser.error(f"--ray-cpus must be > 0, got {options.ray_cpus}")
         try:
             options.domains = domains.parse_range(options.domains)
         except ValueError as error:
@@ -77,19 +91,35 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run(options, scenarios)
 
 
+def executor_for(options: argparse.Namespace) -> tuple[Executor, str]:
+    """The backend ``options`` ask for and how to name it; RuntimeError or ConnectionError when Ray is
+    asked for and is not installed or not reachable."""
+    if options.ray is None:
+        from ros_tools.scenarios.executor import LocalExecutor
+
+        pool = domains.DomainPool(*options.domains)
+        return LocalExecutor(options.workers, pool), f"{options.workers} at a time"
+    from ros_tools.scenarios.cluster import RayExecutor
+
+    return (RayExecutor(options.ray, options.domains, options.ray_cpus),
+            f"Ray tasks of {options.ray_cpus:g} CPU on the cluster at {options.ray}")
+
+
 def run(options: argparse.Namespace, scenarios: list[Scenario]) -> int:
-    from ros_tools.scenarios.executor import LocalExecutor
     from ros_tools.scenarios.farm import run_all
     from ros_tools.scenarios.summary import write_summary
     from ros_tools.scenarios.table import LiveTable
 
     stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
     out_dir = (options.out or Path("artifacts") / "scenarios" / f"{options.file.stem}-{stamp}").resolve()
+    try:
+        executor, how = executor_for(options)
+    except (RuntimeError, ConnectionError) as error:
+        print(f"navsuite-scenarios: {error}", file=sys.stderr)
+        return EXIT_USAGE
     table = LiveTable([s.name for s in scenarios], sys.stdout)
-    print(f"navsuite-scenarios: {len(scenarios)} scenario(s) from {options.file}, "
-          f"{options.workers} at a time, domains {options.domains[0]}-{options.domains[1]}; "
-          f"artifacts in {out_dir}/", flush=True)
-    executor = LocalExecutor(options.workers, domains.DomainPool(*options.domains))
+    print(f"navsuite-scenarios: {len(scenarios)} scenario(s) from {options.file}, {how}, "
+          f"domains {options.domains[0]}-{options.domains[1]}; artifacts in {out_dir}/", flush=True)
     started = time.monotonic()
     try:
         results = run_all(scenarios, options.file.resolve(), out_dir, executor, table.start,
@@ -102,6 +132,10 @@ def run(options: argparse.Namespace, scenarios: list[Scenario]) -> int:
     failed = [r for r in results if not r.verdict.passed]
     print(f"{len(results) - len(failed)} passed, {len(failed)} failed in {wall:.0f} s wall "
           f"({len(results) / wall * 3600:.0f} scenarios/h); summary {page}, JUnit {junit}", flush=True)
+    for result in results:
+        if result.outcome.attempts > 1:
+            print(f"RE-QUEUED {result.scenario.name}: its worker died; attempt {result.outcome.attempts} "
+                  f"{'passed' if result.verdict.passed else 'failed'}", flush=True)
     for result in failed:
         print(f"FAILED {result.scenario.name}: {result.verdict.describe()}", flush=True)
     return EXIT_FAILED if failed else EXIT_OK

@@ -21,7 +21,8 @@ class Outcome:
     the farm's), STACK (the stack died or never came up) or ERROR (the runner itself failed: ``detail``).
 
     sim_time: s of sim time the mission took; wall_time: s of wall time the scenario took, bringup
-    included; max_localization_error: m (AMCL against the truth); artifacts: name → path.
+    included; max_localization_error: m (AMCL against the truth); artifacts: name → path; attempts: how
+    many times the scenario was started (2 when a cluster worker died under it and it was re-queued).
     """
 
     result: str
@@ -36,6 +37,7 @@ class Outcome:
     wall_time: float = 0.0
     events_applied: tuple[str, ...] = ()
     artifacts: dict[str, str] = field(default_factory=dict)
+    attempts: int = 1
 
     def to_json(self) -> dict[str, Any]:
         data = asdict(self)
@@ -69,8 +71,9 @@ class Verdict:
 def judge(expect: Expect, outcome: Outcome, injected: int = 0) -> Verdict:
     """Every criterion of ``expect`` against ``outcome``; a runner error fails before any criterion.
 
-    ``injected``: events the injector had to apply at sim times (kidnaps); fewer applied lines in the
-    outcome fail the run (``events``), so a scenario never passes with its fault silently left out.
+    ``injected``: events the injector had to apply at sim times (farm.injected_events); fewer applied
+    lines in the outcome fail the run (``events``), so a scenario never passes with its fault silently
+    left out.
     """
     if outcome.result == "ERROR":
         return Verdict(False, (f"run: {outcome.detail or 'the runner failed'}",))
