@@ -48,7 +48,11 @@ def slam_processes(params_file: str | Path, *, use_sim_time: bool = True,
               *extra_ros_args]
     # ``python -m nav_stack.ros.map_saver`` is map_saver_cli; the server is that module's main().
     saver = "import sys; from nav_stack.ros.map_saver import main; sys.exit(main())"
-    nodes = [ProcessSpec("slam", [python, "-m", "nav_stack.ros.slam_node", "--ros-args", *common]),
+    # One BLAS thread: the pose-graph solve's matrices are small, and on a loaded 2-core machine
+    # OpenBLAS's spinning worker threads made one loop closure's optimisation 6x slower (2.4 s instead
+    # of 0.4 s for 1600 nodes and 60 loop edges), long enough to miss the bond heartbeat.
+    nodes = [ProcessSpec("slam", [python, "-m", "nav_stack.ros.slam_node", "--ros-args", *common],
+                         env={"OPENBLAS_NUM_THREADS": "1"}),
              ProcessSpec("map_saver", [python, "-c", saver, "--ros-args", *common])]
     manager = ProcessSpec(
         SLAM_MANAGER,

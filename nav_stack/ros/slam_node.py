@@ -6,9 +6,13 @@ executor thread as soon as the odometry at its stamp is in the TF buffer: the sc
 once, and a scan whose odometry has not arrived yet waits in a one-slot queue and is retried after
 every TF message (a newer scan replaces it, as slam_toolbox's async mode drops scans it cannot keep up
 with). What is mapped then depends only on the order messages arrive in. A processed scan costs tens
-of ms and a loop closure up to seconds; meanwhile the executor's other callbacks wait, and under
-lockstep (the runner makes this process a ``slam`` participant when ``use_sim_time`` is set) the
-simulator waits too, so the map comes out the same however loaded the machine is.
+of ms and one with a loop closure a few hundred at most: the map re-render a closure needs goes a
+slice of nodes per scan (nav_stack/core/slam/rerender.py), because a callback that held the executor
+for seconds starved the bond heartbeat and the lifecycle manager reset the node, losing the map
+(turtlebot3_house, 2026-11-27). Meanwhile the executor's other callbacks wait, and under lockstep
+(the runner makes this process a ``slam`` participant when ``use_sim_time`` is set) the simulator
+waits too, so the map comes out the same however loaded the machine is. Every TIMING_LOG_SCANS
+processed scans the node logs the median and max wall time of their callbacks.
 
   in   ``scan_topic`` (LaserScan, sensor QoS); TF ``odom_frame`` → ``base_frame`` at the scan stamp
        (a scan waits up to SCAN_TF_WAIT s of the node clock for its odometry) and the static
@@ -70,6 +74,7 @@ MAP_TOPIC = "map"
 POSE_TOPIC = "~/pose"
 SCAN_TF_WAIT = 0.3  # s of the node clock a scan may wait for the odometry at its stamp
 WARN_PERIOD = 5.0  # s between repeated warnings
+TIMING_LOG_SCANS = 100  # processed scans per logged summary of callback times
 ACTIVE_MESSAGE = "slam: active, {mode} from scans"
 
 
@@ -90,6 +95,7 @@ class SlamNode(NavLifecycleNode):
         self.slam: GridSlam | None = None
         self.map_msg: OccupancyGrid | None = None
         self.process_times: list[float] = []  # wall s of each processed scan (bench/bench_slam_system.py)
+        self.callback_times: list[float] = []  # wall s of each processed scan's whole callback, map included
         self.paused = False
         self.ignored_scans = 0  # scans received while paused, since the last pause
         self.parked_scans = 0  # scans that arrived before their odometry and waited for it
@@ -240,6 +246,22 @@ class SlamNode(NavLifecycleNode):
         if update.processed and stamp - self._last_map_stamp >= self.params.map_update_interval:
             self._last_map_stamp = stamp
             self._publish_map(msg.header.stamp)
+        if update.processed:
+            self._record_time(time.perf_counter() - started)
+
+    def _record_time(self, seconds: float) -> None:
+        """Keep the wall time of a processed scan's callback and log a summary every TIMING_LOG_SCANS.
+
+        Why logged: a callback that holds the executor for seconds starves the bond heartbeat (the
+        lifecycle manager resets the node after 4 s) and lockstep; the log shows how close a run came.
+        """
+        self.callback_times.append(seconds)
+        if len(self.callback_times) % TIMING_LOG_SCANS == 0:
+            last = np.array(self.callback_times[-TIMING_LOG_SCANS:]) * 1e3
+            assert self.slam is not None
+            self.get_logger().info(
+                f"slam: {len(self.slam.poses)} nodes, last {TIMING_LOG_SCANS} scans: median "
+                f"{np.median(last):.0f} ms, max {last.max():.0f} ms wall per scan callback")
 
     # -- outputs ---------------------------------------------------------------------------------
     def _send_tf(self) -> None:
@@ -263,7 +285,7 @@ class SlamNode(NavLifecycleNode):
 
     def _publish_map(self, stamp: object) -> None:
         assert self.slam is not None
-        data, spec = self.slam.occupancy()
+        data, spec = self.slam.occupancy(complete=False)  # a pending re-render goes on a slice per scan
         self.map_msg = occupancy_msg(data, spec, self.node_params.map_frame, stamp)
         self.map_pub.publish(self.map_msg)
 

@@ -141,13 +141,16 @@ def observable_walls(reference: np.ndarray, spec: GridSpec, inside: tuple[float,
     return (reference >= 65) & dilate(reach)
 
 
-def compare_with_reference(map_yaml: Path) -> float:
-    """IoU (one-cell tolerance) of the map's occupied cells with the reference's observable walls."""
+def compare_with_reference(map_yaml: Path, reference: Path = REFERENCE_MAP,
+                           inside: tuple[float, float] = START[:2]) -> float:
+    """IoU (one-cell tolerance) of the map's occupied cells with the ``reference`` map's walls that a
+    lidar can see from the free space around ``inside`` (m; the world's spawn). Both maps must share
+    the map frame (SLAM's map_start_pose at the spawn, as nav-bringup --slam --world sets it)."""
     from tests.helpers.slam_world import iou_dilated, resample_to
 
-    ref = load_map(REFERENCE_MAP)
+    ref = load_map(reference)
     est = load_map(map_yaml)
-    truth = observable_walls(ref.data, ref.spec, START[:2])
+    truth = observable_walls(ref.data, ref.spec, inside)
     estimate = resample_to(est.data >= 65, est.spec, ref.spec, False)
     # Far outside the arena nothing is observable; an occupied estimate cell there is a plain error.
     return iou_dilated(estimate, truth)

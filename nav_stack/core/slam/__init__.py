@@ -1,10 +1,10 @@
-"""Grid SLAM (pure numpy): log-odds mapping, correlative scan matching, pose-graph loop closure.
+"""Grid SLAM (numpy + two numba kernels): log-odds mapping, correlative scan matching, loop closure.
 
 Typical use (the SLAM node feeds every LaserScan with the odometry pose at its stamp)::
 
     slam = GridSlam(SlamParams(map_start_pose=(-2.0, -0.5, 0.0)))
     update = slam.process(scan, odom_pose, stamp, laser_pose)   # publish update.map_to_odom
-    occupancy, spec = slam.occupancy()                          # publish /map every map_update_interval
+    occupancy, spec = slam.occupancy(complete=False)            # publish /map every map_update_interval
     write_graph(slam.graph(), "office")                         # office.posegraph + office.data
     again = GridSlam.from_graph(read_graph("office"))           # continue it (restart_at a pose) ...
     here = GraphLocalizer.from_graph(read_graph("office"))      # ... or only localize on it

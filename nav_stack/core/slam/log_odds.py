@@ -17,9 +17,10 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from nav_stack.core.costmap.raytrace import trace_cells
+from nav_stack.core.costmap.raytrace import grid_coords
 from nav_stack.core.geometry import FloatArray
 from nav_stack.core.grid import GridSpec
+from nav_stack.core.slam import integrate_jit
 
 # Extra room (m) allocated beyond a scan's reach when the grid grows: re-allocations stay rare.
 _GROW_MARGIN_M = 2.0
@@ -42,7 +43,8 @@ class LogOddsGrid:
         self._cell0 = (0, 0)  # map-frame cell index (ix, iy) of array element [0, 0]
         self._log_odds = np.zeros((0, 0), dtype=np.float32)
         self._seen = np.zeros((0, 0), dtype=bool)
-        self._scratch = np.zeros(0, dtype=np.int64)  # per-cell workspace of _distinct
+        self._stamp = np.zeros(0, dtype=np.int64)  # per-cell mark of the last scan that touched it
+        self._next_id = 0  # id of the next scan integrated (integrate_jit's stamps)
 
     @property
     def spec(self) -> GridSpec | None:
@@ -53,11 +55,6 @@ class LogOddsGrid:
         return GridSpec(
             w, h, self.resolution, self._cell0[0] * self.resolution, self._cell0[1] * self.resolution
         )
-
-    def clear(self) -> None:
-        """Forget all evidence (before a rebuild); keeps the allocation."""
-        self._log_odds.fill(0.0)
-        self._seen.fill(False)
 
     def state(self) -> tuple[tuple[int, int], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
         """(cell index of element [0, 0], log-odds, seen) as copies: what a saved graph stores so
@@ -104,36 +101,39 @@ class LogOddsGrid:
 
     def integrate(self, origin: tuple[float, float], hits: FloatArray, misses: FloatArray) -> None:
         """Add one scan in the map frame: sensor ``origin``, (K, 2) ``hits`` and (J, 2) ``misses`` (m)."""
-        ends = np.vstack((hits, misses, np.array([origin])))
-        spec = self._ensure_covers(ends[:, 0], ends[:, 1])
-        w = spec.width
-        free_flat: list[npt.NDArray[np.int64]] = []
-        for points, include_end in ((hits, False), (misses, True)):
-            if len(points) == 0:
-                continue
-            dx, dy = points[:, 0] - origin[0], points[:, 1] - origin[1]
-            fx, fy = trace_cells(spec, origin, np.hypot(dx, dy), np.arctan2(dy, dx), include_end=include_end)
-            free_flat.append(fy * w + fx)
-        hx, hy = spec.world_to_cell(hits[:, 0], hits[:, 1])
-        hit_flat = self._distinct(hy * w + hx)
-        free = self._distinct(np.concatenate(free_flat)) if free_flat else np.zeros(0, dtype=np.int64)
-        self._scratch[hit_flat] = -1
-        free = free[self._scratch[free] != -1]
-        flat = self._log_odds.reshape(-1)
-        flat[free] = np.maximum(flat[free] + self._miss, self._clamp[0])
-        flat[hit_flat] = np.minimum(flat[hit_flat] + self._hit, self._clamp[1])
-        seen = self._seen.reshape(-1)
-        seen[free] = True
-        seen[hit_flat] = True
+        self.integrate_all([(origin, hits, misses)])
 
-    def _distinct(self, cells: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
-        """Each flat index once, without sorting: of repeated writes to a scratch cell only the last
-        survives, so exactly one occurrence of every index reads back its own position."""
-        if self._scratch.size != self._log_odds.size:
-            self._scratch = np.zeros(self._log_odds.size, dtype=np.int64)
-        order = np.arange(len(cells), dtype=np.int64)
-        self._scratch[cells] = order
-        return np.asarray(cells[self._scratch[cells] == order], dtype=np.int64)
+    def integrate_all(self, scans: list[tuple[tuple[float, float], FloatArray, FloatArray]]) -> None:
+        """Add scans (``integrate``'s arguments) in order, as one compiled pass (integrate_jit).
+
+        Why one pass: a re-render after a loop closure integrates every node of the graph; grown
+        once to cover them all, the grid is the same as after one ``integrate`` per scan.
+        """
+        if not scans:
+            return
+        every = np.vstack([np.vstack((hits, misses, np.array([origin]))) for origin, hits, misses in scans])
+        spec = self._ensure_covers(every[:, 0], every[:, 1])
+        if self._stamp.size != self._log_odds.size:
+            self._stamp = np.full(self._log_odds.size, np.iinfo(np.int64).min, dtype=np.int64)
+        sizes = np.array([[len(hits), len(misses)] for _, hits, misses in scans], dtype=np.int64)
+        starts = np.concatenate(([0], np.cumsum(sizes.sum(axis=1)))).astype(np.int64)
+        hit_starts = np.concatenate(([0], np.cumsum(sizes[:, 0]))).astype(np.int64)
+        sensors = np.array([o for o, _, _ in scans], dtype=np.float64)
+        origin = np.repeat(sensors, sizes.sum(axis=1), axis=0)  # each ray's sensor
+        points = np.vstack([np.vstack((hits, misses)) for _, hits, misses in scans])
+        keep_end = np.concatenate([np.arange(h + m) >= h for h, m in sizes])
+        dx, dy = points[:, 0] - origin[:, 0], points[:, 1] - origin[:, 1]
+        lengths, angles = np.hypot(dx, dy), np.arctan2(dy, dx)
+        # raytrace.trace_cells' endpoints, rebuilt from length and angle as it does, bit for bit
+        ex, ey = grid_coords(spec, origin[:, 0] + lengths * np.cos(angles),
+                             origin[:, 1] + lengths * np.sin(angles))
+        ox, oy = grid_coords(spec, sensors[:, 0], sensors[:, 1])
+        hits = points[~keep_end]
+        hx, hy = spec.world_to_cell(hits[:, 0], hits[:, 1])
+        integrate_jit.integrate(self._log_odds, self._seen, self._stamp, np.column_stack((ox, oy)),
+                                np.column_stack((ex, ey)), keep_end, (hy * spec.width + hx).astype(np.int64),
+                                starts, hit_starts, self._next_id, (self._hit, self._miss, *self._clamp))
+        self._next_id += len(scans)
 
     def occupied_points(
         self, center: tuple[float, float], half_size: float, occupied_thresh: float

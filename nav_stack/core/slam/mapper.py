@@ -13,7 +13,7 @@ Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_headi
    as the graph's drift between the chain and the new scan (loop_closure.py); a match with strong
    responses and a distinct peak adds a robust edge weighted by the match covariance, the whole
    graph is re-optimised (Cauchy kernel on loop edges) and the map is re-rendered from the moved
-   nodes the next time it is read;
+   nodes, a slice per scan (rerender.py);
 5. ``map_to_odom = pose ∘ odom⁻¹``, so the correction stays small and odom stays continuous.
 
 Scans between processed ones only update the reported pose through the last correction.
@@ -30,12 +30,14 @@ import numpy.typing as npt
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import FloatArray, Pose2D, compose
 from nav_stack.core.grid import GridSpec
+from nav_stack.core.slam import integrate_jit, pose_graph_jit
 from nav_stack.core.slam.correlation import MatchResult, SearchWindow
 from nav_stack.core.slam.laser import ScanPoints, densify, scan_points, to_map
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.loop_closure import candidate_chains, graph_hops, search_half_extent, verified
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.pose_graph import Edge, optimize
+from nav_stack.core.slam.rerender import RERENDER_SLICE_NODES, Rerender
 from nav_stack.core.slam.serialization import SlamGraph
 from nav_stack.core.slam.shared import (
     IDENTITY,
@@ -63,12 +65,9 @@ class GridSlam:
     def __init__(self, params: SlamParams | None = None) -> None:
         self.params = params or SlamParams()
         p = self.params
-        self._grid = LogOddsGrid(
-            p.resolution,
-            p.hit_probability,
-            p.miss_probability,
-            (p.clamp_min_probability, p.clamp_max_probability),
-        )
+        integrate_jit.warm_up()  # load the compiled kernels now, not in the first scan's callback
+        pose_graph_jit.warm_up()
+        self._grid = self._new_grid()
         self._poses: FloatArray = np.zeros((0, 3))
         self._odom: list[Pose2D] = []
         self._raw: list[tuple[LaserScan, Pose2D]] = []  # each node's scan and laser pose, for saving
@@ -79,7 +78,7 @@ class GridSlam:
         self._edges: list[Edge] = []
         self._stamp = -math.inf
         self._map_to_odom = Pose2D(0.0, 0.0, 0.0)
-        self._map_dirty = False
+        self._rerender: Rerender | None = None  # a re-render after a loop closure, in progress
         self.loop_closures = 0
         self.loop_closures_rejected = 0
         self._last_closure = -(10**9)
@@ -119,7 +118,24 @@ class GridSlam:
         """Feed one scan with the odometry pose (odom frame) at its ``stamp`` (s).
 
         ``laser_pose`` is the sensor pose in the robot base frame (TF base_footprint → base_scan).
+        Each call also advances a pending re-render of the map by one slice (rerender.py), so no
+        call costs a whole re-render.
         """
+        update = self._process(scan, odom_pose, stamp, laser_pose)
+        self._advance_rerender(RERENDER_SLICE_NODES)
+        return update
+
+    def _new_grid(self) -> LogOddsGrid:
+        p = self.params
+        clamp = (p.clamp_min_probability, p.clamp_max_probability)
+        return LogOddsGrid(p.resolution, p.hit_probability, p.miss_probability, clamp)
+
+    def _advance_rerender(self, budget: int | None) -> None:
+        """Fold ``budget`` more nodes (all if None) into the pending re-render; swap it in once complete."""
+        if self._rerender is not None and self._rerender.advance(self._scans, self._poses, budget):
+            self._grid, self._rerender = self._rerender.grid, None
+
+    def _process(self, scan: LaserScan, odom_pose: Pose2D, stamp: float, laser_pose: Pose2D) -> SlamUpdate:
         check_inputs(odom_pose, laser_pose, stamp)
         if self._restart is not None and self._odom:
             return self._resume(scan, odom_pose, stamp, laser_pose)
@@ -169,8 +185,7 @@ class GridSlam:
 
     def graph(self) -> SlamGraph:
         """The session (nodes, scans, edges, map) for serialization.write_graph."""
-        if self._map_dirty:
-            self._rebuild_map()
+        self._advance_rerender(None)
         cell0, log_odds, seen = self._grid.state()
         scans = tuple(scan for scan, _ in self._raw)
         lasers = np.array([laser for _, laser in self._raw], dtype=np.float64).reshape(-1, 3)
@@ -206,10 +221,14 @@ class GridSlam:
             slam.restart_at(Pose2D(*map(float, slam._poses[0])))
         return slam
 
-    def occupancy(self) -> tuple[npt.NDArray[np.int8], GridSpec]:
-        """The map as OccupancyGrid values (100 occupied, 0 free, -1 unknown) and its GridSpec (map frame)."""
-        if self._map_dirty:
-            self._rebuild_map()
+    def occupancy(self, complete: bool = True) -> tuple[npt.NDArray[np.int8], GridSpec]:
+        """The map as OccupancyGrid values (100 occupied, 0 free, -1 unknown) and its GridSpec (map frame).
+
+        ``complete`` finishes a pending re-render first (its cost grows with the graph: 0.3 s for 1500
+        nodes); without it the map is the last complete render, what a node publishes on a budget.
+        """
+        if complete:
+            self._advance_rerender(None)
         return self._grid.occupancy(self.params.occupied_thresh, self.params.free_thresh)
 
     def _add_node(
@@ -237,7 +256,7 @@ class GridSlam:
             self._link(index - 1, index, z)
         self._stamp = stamp
         self._map_to_odom = compose(pose, inverse(odom_pose))
-        if not self._map_dirty:
+        if self._rerender is None:  # else the re-render folds this node in
             self._grid.integrate(*points.in_map(pose))
         return SlamUpdate(self._map_to_odom, pose, processed=True, response=response)
 
@@ -269,9 +288,7 @@ class GridSlam:
             <= p.scan_buffer_maximum_scan_distance
         ]
         reference = self._hits_in_map(buffer)
-        if p.match_against_map:
-            if self._map_dirty:
-                self._rebuild_map()
+        if p.match_against_map and self._rerender is None:  # a map being re-rendered has stale poses
             half = p.max_laser_range + self._link_window.half_extent
             near = self._grid.occupied_points((predicted.x, predicted.y), half, p.occupied_thresh)
             reference = np.vstack((reference, near))
@@ -321,14 +338,9 @@ class GridSlam:
         )
         moved = float(np.hypot(*(optimized[:, :2] - self._poses[:, :2]).T).max())
         self._poses = optimized
-        # Rebuilding costs one integration per node; corrections under half a cell would not change it.
-        self._map_dirty |= moved > 0.5 * p.resolution
+        # Re-rendering costs one integration per node; corrections under half a cell would not change it.
+        if moved > 0.5 * p.resolution:
+            self._rerender = Rerender(self._new_grid())
         self.loop_closures += 1
         self._last_closure = current
         return True
-
-    def _rebuild_map(self) -> None:
-        self._grid.clear()
-        for k, points in enumerate(self._scans):
-            self._grid.integrate(*points.in_map(Pose2D(*self._poses[k])))
-        self._map_dirty = False

@@ -23,7 +23,8 @@ class SlamParams:
             this far (m) or turned this much (rad) since the last processed scan.
         minimum_time_interval: and at least this long (s) after it.
         map_update_interval: period (s) at which the ROS node republishes /map (the core renders
-            on demand through ``GridSlam.occupancy()``).
+            on demand through ``GridSlam.occupancy()``; after a loop closure the re-render goes
+            a slice of nodes per scan, rerender.py).
         map_start_pose: ``(x, y, yaw)`` of the robot's first pose in the map frame; (-2.0, -0.5, 0)
             puts the map in turtlebot3_world's frame.
         hit_probability / miss_probability: occupancy evidence of a beam endpoint / a traversed cell.

@@ -1,5 +1,5 @@
 """A 2D pose graph and its Gauss-Newton optimisation on SE(2) (Grisetti et al., "A tutorial on
-graph-based SLAM", 2010), in numpy.
+graph-based SLAM", 2010), in numpy; the chain's block-tridiagonal solve is compiled (pose_graph_jit).
 
 Why dense: the mapper holds a few hundred nodes (one per 0.2 m travelled), so the 3n × 3n normal
 equations fit comfortably in memory and one LAPACK solve is faster than assembling a sparse
@@ -24,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, normalize_angles
+from nav_stack.core.slam.pose_graph_jit import block_tridiagonal_solve
 
 
 @dataclass(frozen=True)
@@ -98,27 +99,6 @@ def _linearize(
     return err, a, b
 
 
-def _block_tridiagonal_solve(diag: FloatArray, upper: FloatArray, rhs: FloatArray) -> FloatArray:
-    """Solve a symmetric block-tridiagonal system (block Thomas algorithm).
-
-    ``diag`` (N, 3, 3), ``upper`` (N-1, 3, 3) the blocks right of the diagonal, ``rhs`` (N, 3, K).
-    """
-    n = len(diag)
-    inv = np.empty_like(diag)
-    y = np.empty_like(rhs)
-    inv[0] = np.linalg.inv(diag[0])
-    y[0] = rhs[0]
-    for k in range(1, n):
-        m = upper[k - 1].T @ inv[k - 1]
-        inv[k] = np.linalg.inv(diag[k] - m @ upper[k - 1])
-        y[k] = rhs[k] - m @ y[k - 1]
-    x = np.empty_like(rhs)
-    x[n - 1] = inv[n - 1] @ y[n - 1]
-    for k in range(n - 2, -1, -1):
-        x[k] = inv[k] @ (y[k] - upper[k] @ x[k + 1])
-    return x
-
-
 def _solve_normal_equations(
     i: npt.NDArray[np.int64],
     j: npt.NDArray[np.int64],
@@ -157,12 +137,15 @@ def _solve_normal_equations(
         columns[i[e], :, 3 * col : 3 * col + 3] += a[e].T @ root
         columns[j[e], :, 3 * col : 3 * col + 3] += b[e].T @ root
     both = np.concatenate((rhs[:, :, None], columns), axis=2)[1:]  # drop the fixed node 0
-    solved = _block_tridiagonal_solve(diag[1:], upper[1:], both)
+    solved = block_tridiagonal_solve(diag[1:], np.ascontiguousarray(upper[1:]), np.ascontiguousarray(both))
     t_rhs, t_u = solved[:, :, 0].reshape(-1), solved[:, :, 1:].reshape(3 * (n - 1), -1)
-    u = columns[1:].reshape(3 * (n - 1), -1)
-    if u.shape[1]:
-        small = np.eye(u.shape[1]) + u.T @ t_u
-        t_rhs = t_rhs - t_u @ np.linalg.solve(small, u.T @ t_rhs)
+    if loops.size:
+        # U is zero outside the rows of the loop edges' end nodes: Uᵀ·X only needs those rows
+        ends = np.unique(np.concatenate((i[loops], j[loops])))
+        rows = (3 * (ends[ends > 0] - 1)[:, None] + np.arange(3)).reshape(-1)  # node 0 is dropped
+        u = columns[1:].reshape(3 * (n - 1), -1)[rows]
+        small = np.eye(u.shape[1]) + u.T @ t_u[rows]
+        t_rhs = t_rhs - t_u @ np.linalg.solve(small, u.T @ t_rhs[rows])
     return np.vstack((np.zeros((1, 3)), t_rhs.reshape(n - 1, 3)))
 
 
