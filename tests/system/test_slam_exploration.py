@@ -15,7 +15,9 @@ error shows up as a low IoU. The SLAM pose (slam/pose) must stay near the ground
 bounds of tests/helpers/nav_ros_slam_drive.py).
 
 Phase 2 (seed: "navigation on the saved map"): the saved map round-trips through map_server, amcl
-starts at the spawn, and a NavigateToPose goal to Nav2's system-test goal (0.0, 2.0) succeeds. The
+starts at the spawn, and three NavigateToPose goals succeed in a row (issue 20: navigate to 3 goals
+on the saved map): Nav2's system-test goal (0.0, 2.0), then the world's east spawn (1.9, 0.0) and back
+to the seeds' spawn (-2.0, -0.5), legs that cross or round the pillar field. The
 stack runs as ``nav-bringup --map`` runs it: every Nav2 node in one process.
 
 Both phases run sim2d in lockstep with the stack's processes at SYSTEM_RTF (``max`` by default).
@@ -71,7 +73,8 @@ pytestmark = [pytest.mark.slow, pytest.mark.ros]
 PROBE_ROLE = "slam_system_probe"
 SLAM_ROLES = ("slam", *NAV_SERVERS, PROBE_ROLE)
 SAVED_MAP_ROLES = ("nav2", PROBE_ROLE)  # phase 2: the one-process stack, as nav-bringup runs it
-GOAL = (0.0, 2.0, 0.0)
+#: Phase 2's goals (x, y, yaw; map frame): spawns of sim2d/worlds/turtlebot3_world.yaml, so free.
+GOALS = ((0.0, 2.0, 0.0), (1.9, 0.0, math.pi), (-2.0, -0.5, 0.0))
 #: Exploring takes 90-150 sim s here; the limits end a stuck run with the explorer's log.
 EXPLORE_SIM_S, EXPLORE_WALL_S = 300.0, 360.0
 
@@ -140,7 +143,7 @@ class Probe:
         stop_spinning(self.executor, self._thread, self.node)
 
 
-@pytest.mark.timeout(EXPLORE_WALL_S + 240)  # phase 2: a new stack and one goal, about 60 s
+@pytest.mark.timeout(EXPLORE_WALL_S + 300)  # phase 2: a new stack and three goals, about 70 s
 def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: Path) -> None:
     probe = Probe(ros_context)
     map_file = tmp_path / "explored"
@@ -184,16 +187,18 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
                 tf.wait_for("map", "base_link", timeout=30.0)
             finally:
                 tf.destroy()
-            goal = NavigateToPose.Goal()
-            goal.pose = pose_stamped(*GOAL, "map", probe.node.get_clock().now().to_msg())
-            sent = send_until_acknowledged(probe.navigate, goal, 30.0)
-            assert sent.result().accepted
-            result = sent.result().get_result_async()
-            wait_until(lambda: result.done() or not stack.alive(), 300.0, "the navigation result")
-            assert result.done(), stack.tail()
-            assert result.result().status == GoalStatus.STATUS_SUCCEEDED, result.result().result.error_msg
-            assert probe.truth is not None
-            assert math.hypot(probe.truth[1] - GOAL[0], probe.truth[2] - GOAL[1]) < 0.5
+            for target in GOALS:
+                goal = NavigateToPose.Goal()
+                goal.pose = pose_stamped(*target, "map", probe.node.get_clock().now().to_msg())
+                sent = send_until_acknowledged(probe.navigate, goal, 30.0)
+                assert sent.result().accepted
+                result = sent.result().get_result_async()
+                wait_until(lambda r=result: r.done() or not stack.alive(), 300.0, "the navigation result")
+                assert result.done(), stack.tail()
+                assert result.result().status == GoalStatus.STATUS_SUCCEEDED, \
+                    (target, result.result().result.error_msg)
+                assert probe.truth is not None
+                assert math.hypot(probe.truth[1] - target[0], probe.truth[2] - target[1]) < 0.5, target
         finally:
             stack.close()
     finally:
