@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_stack.core.control.base import CircleFootprint, CostGrid, Footprint, Twist2D
+from nav_stack.core.control.base import CircleFootprint, CostGrid, Footprint, Twist2D, constant_twist_poses
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import LETHAL_OBSTACLE
 
@@ -98,13 +98,7 @@ class CollisionLookahead:
         ``max_distance`` (m) or the rotation ``max_rotation`` (rad) is covered."""
         p = self.params
         t = np.arange(int(p.cycle_frequency * p.simulate_ahead_time) + 1) / p.cycle_frequency
-        yaw = pose.yaw + cmd.wz * t
-        if abs(cmd.wz) > 1e-9:
-            x = pose.x + cmd.vx / cmd.wz * (np.sin(yaw) - math.sin(pose.yaw))
-            y = pose.y - cmd.vx / cmd.wz * (np.cos(yaw) - math.cos(pose.yaw))
-        else:
-            x = pose.x + cmd.vx * t * math.cos(pose.yaw)
-            y = pose.y + cmd.vx * t * math.sin(pose.yaw)
+        x, y, yaw = constant_twist_poses(pose, cmd, t)
         keep = (np.hypot(x - pose.x, y - pose.y) < max_distance) & (np.abs(cmd.wz * t) < max_rotation)
         if not keep.any():
             return False

@@ -21,7 +21,8 @@ from nav_stack.core.control.checkers import (
 )
 from nav_stack.core.control.dwb import DWBController, DWBParams
 from nav_stack.core.control.path_handler import PathHandler, PathHandlerParams
-from nav_stack.core.control.rpp import RegulatedPurePursuit, RPPParams
+from nav_stack.core.control.rpp import RegulatedPurePursuit
+from nav_stack.core.control.rpp_params import RPPParams
 from nav_stack.core.control.server import ControllerPlugins, InvalidController, LocalController
 
 __all__ = [

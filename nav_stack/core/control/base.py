@@ -15,7 +15,7 @@ from typing import NamedTuple, Protocol
 import numpy as np
 import numpy.typing as npt
 
-from nav_stack.core.geometry import FloatArray
+from nav_stack.core.geometry import FloatArray, Pose2D
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
 
 IntArray = npt.NDArray[np.int64]
@@ -240,6 +240,22 @@ def _footprint_collides(
     if cost[0] != INSCRIBED_INFLATED_OBSTACLE:
         return True
     return bool(((clearance < clearance[0]) & hits).any())
+
+
+def constant_twist_poses(
+    pose: Pose2D, cmd: Twist2D, t: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Poses (x, y, yaw arrays) reached from ``pose`` after ``t`` s of the constant command ``cmd``:
+    exact circular arcs (a straight line when ``cmd.wz`` is 0), as the collision look-aheads of RPP
+    and the behaviors simulate them."""
+    yaw = pose.yaw + cmd.wz * t
+    if abs(cmd.wz) > 1e-9:
+        x = pose.x + cmd.vx / cmd.wz * (np.sin(yaw) - math.sin(pose.yaw))
+        y = pose.y - cmd.vx / cmd.wz * (np.cos(yaw) - math.cos(pose.yaw))
+    else:
+        x = pose.x + cmd.vx * t * math.cos(pose.yaw)
+        y = pose.y + cmd.vx * t * math.sin(pose.yaw)
+    return x, y, yaw
 
 
 def turn_in_place(angle: float, current_wz: float, max_wz: float, max_accel: float, period: float) -> float:

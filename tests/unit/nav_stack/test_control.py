@@ -30,8 +30,8 @@ from nav_stack.core.control import (
     Twist2D,
 )
 from nav_stack.core.control.base import motion_collides
-from nav_stack.core.control.rpp import (
-    FINAL_ARC_RADIUS,
+from nav_stack.core.control.rpp_moves import FINAL_ARC_RADIUS
+from nav_stack.core.control.rpp_params import (
     approach_scaled_speed,
     curvature_to,
     find_carrot,
@@ -43,6 +43,7 @@ from nav_stack.core.geometry import Pose2D, headings_along
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
 from nav_stack.core.map_io import load_map
 from nav_stack.core.planning.navfn import NavfnParams, NavfnPlanner
+from tests.helpers.tight_spot import WAFFLE_BOX
 
 REPO = Path(__file__).resolve().parents[3]
 DT = 0.05  # 20 Hz controller
@@ -246,16 +247,16 @@ def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopp
     behind; with both arcs blocked too, turn on the spot after all (refusing ended the navigation)."""
     rpp, grid, path = _rpp_near_goal(stateful=True)
     rpp.params = RPPParams(stateful=True)  # collision detection on
-    rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
+    rpp.moves.collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
     creep = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert creep.vx == pytest.approx(rpp.params.min_approach_linear_velocity) and abs(creep.wz) < 1e-9
     turn = float(path[-1, 2])
     arc = rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert arc.vx == pytest.approx(rpp.params.min_approach_linear_velocity)
     assert arc.wz == pytest.approx(math.copysign(arc.vx / FINAL_ARC_RADIUS, turn))
-    rpp._collision_ahead = lambda robot, cmd, *args: cmd.vx >= 0.0  # type: ignore[method-assign]
+    rpp.moves.collision_ahead = lambda robot, cmd, *args: cmd.vx >= 0.0  # type: ignore[method-assign]
     assert rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid).vx < 0.0
-    rpp._collision_ahead = lambda robot, cmd, *args: True  # type: ignore[method-assign]
+    rpp.moves.collision_ahead = lambda robot, cmd, *args: True  # type: ignore[method-assign]
     last_resort = rpp.compute_velocity(Pose2D(0.2, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert last_resort.vx == 0.0 and last_resort.wz > 0.0  # every escape blocked: the turn on the spot
 
@@ -293,7 +294,8 @@ def test_rpp_takes_a_closer_carrot_when_the_arc_to_the_far_one_cuts_a_corner() -
     assert (grid.costs[my, mx] < 253).all(), "the path itself must be free"
     params = RPPParams(lookahead_dist=0.9, max_allowed_time_to_collision_up_to_carrot=3.0)  # to the carrot
     far_arc = RegulatedPurePursuit(params, footprint=None)
-    assert far_arc._collision_ahead(Pose2D(0.0, 0.0, 0.0), Twist2D(0.33, 0.33 * 2 * 0.4123 / 0.81), 0.9, grid)
+    arc = Twist2D(0.33, 0.33 * 2 * 0.4123 / 0.81)
+    assert far_arc.moves.collision_ahead(Pose2D(0.0, 0.0, 0.0), arc, 0.9, grid)
     rpp = RegulatedPurePursuit(params)
     cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.5, 0.0), path, grid)
     assert cmd.vx > 0.0 and abs(cmd.wz) < 0.05, cmd
@@ -307,8 +309,8 @@ def test_rpp_stops_checking_for_collisions_where_the_goal_tolerance_stops_the_ro
     grid = with_obstacle(spec, 0.7, 0.8, -0.3, 0.3)  # inscribed band from x = 0.48
     rpp = RegulatedPurePursuit(RPPParams(max_allowed_time_to_collision_up_to_carrot=3.0))
     ahead = Twist2D(0.25, 0.0)
-    assert rpp._collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid)
-    assert not rpp._collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid, np.array([0.6, 0.0]))
+    assert rpp.moves.collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid)
+    assert not rpp.moves.collision_ahead(Pose2D(0.0, 0.0, 0.0), ahead, 0.6, grid, np.array([0.6, 0.0]))
     path = polyline_path([(0.0, 0.0), (0.6, 0.0)])
     cmd = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert cmd.vx > 0.0 and np.hypot(*rpp.last_carrot) == pytest.approx(0.6)  # no closer carrot needed
@@ -336,7 +338,6 @@ def test_a_round_robot_inside_the_inscribed_band_may_turn_slide_and_back_out_but
     assert collides(outside, Twist2D(0.15, 0.0)), "entering the band from outside"
 
 
-WAFFLE_BOX = ((-0.197, -0.133), (0.069, -0.133), (0.069, 0.133), (-0.197, 0.133))  # m, sim2d's waffle
 
 
 def test_a_body_outline_keeps_the_corners_of_a_turn_off_lethal_cells() -> None:

@@ -1,0 +1,111 @@
+"""RPP's way out of a spot where its commands go unanswered (nav_stack/core/control/stall_escape.py).
+
+The closed loops run RPP against tests/helpers/tight_spot.py: the pillar beside location3 drawn as
+lidar cells, and a robot whose box cannot enter the real pillar. The starts are the battery patrol's
+approach to location3 in a looped demo that wedged (ground truth from its recording), with the cell
+borders shifted by up to 4 cm.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from nav_stack.core.control import PathHandler, RPPParams, SimpleGoalChecker, Twist2D
+from nav_stack.core.control.base import CircleFootprint, PolygonFootprint
+from nav_stack.core.control.rpp import RegulatedPurePursuit
+from nav_stack.core.control.rpp_moves import STEP_CLEAR_DISTANCE
+from nav_stack.core.control.stall_escape import StallEscape, unanswered
+from nav_stack.core.geometry import Pose2D, headings_along
+from tests.helpers.tight_spot import WAFFLE_BOX, box_clearance, lidar_costmap, step_with_contact
+
+DT = 0.05  # s, RPP's 20 Hz
+#: the planner's last metres to location3 in the wedged run, and location3's heading (rad)
+APPROACH = [(-1.435, -1.227), (-1.425, -1.267), (-1.415, -1.307)]
+GOAL_YAW = math.pi
+STARTS = [Pose2D(-1.427, -1.200, -1.49), Pose2D(-1.429, -1.230, -1.72), Pose2D(-1.429, -1.233, -1.80)]
+SHIFTS = [(0.0, 0.0), (0.01, 0.0), (0.02, 0.0), (0.0, 0.01), (0.0, 0.02), (0.03, 0.03), (0.04, 0.01)]
+
+
+def approach_path() -> np.ndarray:
+    xy = np.array(APPROACH)
+    path = np.column_stack((xy, headings_along(xy)))
+    path[-1, 2] = GOAL_YAW
+    return path
+
+
+def run_to_location3(rpp: RegulatedPurePursuit, start: Pose2D, shift: tuple[float, float],
+                     steps: int = 600) -> tuple[bool, Pose2D, int]:
+    """Closed loop to the goal heading; (reached, end pose, cycles in which the pillar stopped the robot)."""
+    grid = lidar_costmap(shift)
+    handler = PathHandler()
+    handler.set_plan(approach_path())
+    checker = SimpleGoalChecker()
+    pose, measured, jammed = start, Twist2D(0.0, 0.0), 0
+    for _ in range(steps):
+        if checker.is_goal_reached(pose, handler.goal, measured):
+            return True, pose, jammed
+        local = handler.local_path(pose, Pose2D(0.0, 0.0, 0.0), grid)
+        cmd = rpp.compute_velocity(pose, measured, local, grid)
+        pose, measured = step_with_contact(pose, cmd, DT)
+        jammed += measured != cmd
+    return False, pose, jammed
+
+
+def waffle_rpp() -> RegulatedPurePursuit:
+    return RegulatedPurePursuit(RPPParams(stateful=True), CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX)))
+
+
+def test_unanswered_judges_each_significant_component() -> None:
+    assert unanswered(Twist2D(0.0, -0.16), Twist2D(0.0, 0.0), 0.2)
+    assert not unanswered(Twist2D(0.0, -0.16), Twist2D(0.0, -0.1), 0.2)  # turning, if slower
+    assert unanswered(Twist2D(0.05, -0.333), Twist2D(0.0, 0.001), 0.2)
+    assert not unanswered(Twist2D(0.05, -0.333), Twist2D(0.04, 0.0), 0.2)  # moving: not jammed
+    assert not unanswered(Twist2D(0.0, 0.05), Twist2D(0.0, 0.0), 0.2)  # the end of a braked turn
+    assert not unanswered(Twist2D(0.0, 0.0), Twist2D(0.0, 0.0), 0.2)
+
+
+def test_stall_escape_steps_ahead_then_back_and_ends_after_its_distance() -> None:
+    escape = StallEscape(distance=0.1, max_speed=0.05, cycles=3)
+    here = Pose2D(0.0, 0.0, 0.0)
+    escape.sent(Twist2D(0.26, 0.0))  # driving fast is never judged
+    for _ in range(5):
+        escape.observe(here, Twist2D(0.0, 0.0))
+    assert escape.directions(here) == ()
+    escape.sent(Twist2D(0.0, 0.5))
+    for _ in range(2):
+        escape.observe(here, Twist2D(0.0, 0.0))
+    assert escape.directions(here) == ()
+    escape.observe(here, Twist2D(0.0, 0.0))
+    assert escape.directions(here) == (1.0, -1.0)
+    escape.stepping(1.0)
+    escape.sent(Twist2D(0.05, 0.0))
+    for _ in range(3):  # the step ahead is jammed too: back
+        escape.observe(here, Twist2D(0.0, 0.0))
+    assert escape.directions(here) == (-1.0, 1.0)
+    assert escape.directions(Pose2D(-0.1, 0.0, 0.0)) == ()  # stepped far enough
+    assert not escape.escaping
+
+
+@pytest.mark.parametrize(("start", "shift"), list(itertools.product(STARTS, SHIFTS)))
+def test_rpp_steps_out_of_a_jammed_turn_beside_the_pillar_and_reaches_location3(
+        start: Pose2D, shift: tuple[float, float]) -> None:
+    """The cells drew the pillar smaller than sim2d's body met it, so the turn onto location3's
+    heading (or the arc that replaces it) jammed a rear corner against the pillar, for good. Now a
+    command unanswered for half a second makes RPP step straight out by STEP_CLEAR_DISTANCE and
+    try again; the box never enters the pillar."""
+    reached, pose, _ = run_to_location3(waffle_rpp(), start, shift)
+    assert reached, pose
+    assert box_clearance(pose) >= 0.0
+    assert math.hypot(pose.x - APPROACH[-1][0], pose.y - APPROACH[-1][1]) < 0.25 + STEP_CLEAR_DISTANCE
+
+
+def test_without_the_escape_the_same_approach_jams() -> None:
+    """The loop above is a real wedge: with the escape never firing, RPP repeats the jammed command."""
+    rpp = waffle_rpp()
+    rpp._escape = StallEscape(STEP_CLEAR_DISTANCE, 0.05, cycles=10**9)
+    reached, _, jammed = run_to_location3(rpp, STARTS[0], SHIFTS[0])
+    assert not reached and jammed > 500
