@@ -43,7 +43,7 @@ CLOCK_TOPIC = "/clock"
 PROGRESS_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
-#: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 5 s)
+#: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 30 s)
 REQUEST_HOLD = 2.0
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
@@ -111,7 +111,7 @@ class LockstepParticipant:
         takes wall time; at ``--rtf max`` the simulator would run on by seconds of sim time
         meanwhile, and a sim-time timeout racing that message (a state's 15 s fallback timer against
         the first bond heartbeat) would be decided by the machine's load. Keep ``grace`` under the
-        simulator's ``lockstep.timeout`` (5 s), or it drops this participant.
+        simulator's ``lockstep.timeout`` (30 s), or it drops this participant.
         """
         with self._holds_lock:
             self._holds.append((until, time.monotonic() + grace))

@@ -4,8 +4,13 @@ Why: a simulator that runs by the wall clock outruns a loaded stack, and a missi
 depends on how busy the machine is. In lockstep the simulator never steps more than ``max_lead``
 of sim time (one control period) beyond the slowest participant's report, so it runs as fast as
 the stack keeps up and never faster. A participant that falls silent (crashed, hung, killed
-without leaving) must not stop the world: after ``timeout`` wall seconds it is dropped, named once
-in a warning, and the sim goes on without it.
+without leaving) must not stop the world: it is dropped, named once in a warning, and the sim goes
+on without it. When its process is gone (the pid in its name no longer exists on this machine) that
+happens after ``dead_grace`` wall seconds; a live but silent process is waited for ``timeout`` wall
+seconds. Why two bounds: a busy machine can starve a live stack for seconds (seen: 5 s with three
+stacks and a test run on two cores), and a sim that then went on without it drove the robot blind on
+its last command into a pillar. Waiting long for a live process keeps the outcome independent of
+load; checking the pid keeps a crash from stalling the world for as long.
 
 The protocol (participant side: ``ros_tools/runtime/lockstep.py``): each participant, named
 ``<role>:<pid>``, reports the newest sim time it has fully processed; a report of 0 ns says it
@@ -15,7 +20,8 @@ into every call, so tests drive it deterministically. Sim times are integer nano
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import os
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 HOLD = -1  # limit_ns while expected roles are missing: below any sim time, so no step at all
@@ -25,6 +31,21 @@ LEAVE_NS = 0  # a report of this sim time means "I leave"
 def role_of(name: str) -> str:
     """The role part of a participant name (``nav2:4242`` -> ``nav2``; a name without ':' is its own role)."""
     return name.rsplit(":", 1)[0]
+
+
+def process_alive(name: str) -> bool:
+    """Whether the process in a participant name (``<role>:<pid>``) still exists on this machine;
+    True when the name carries no pid (nothing to check: only ``timeout`` applies)."""
+    pid = name.rsplit(":", 1)[-1]
+    if ":" not in name or not pid.isdigit():
+        return True
+    try:
+        os.kill(int(pid), 0)  # signal 0: existence and permission check only
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 @dataclass
@@ -41,11 +62,13 @@ class Dropped:
         role: the participant's role.
         name: the participant's full name, or None for an expected role that never reported.
         silent_for: wall seconds without a report (since the gate started, for a missing role).
+        gone: its process no longer exists (dropped after ``dead_grace``, not ``timeout``).
     """
 
     role: str
     name: str | None
     silent_for: float
+    gone: bool = False
 
 
 class LockstepGate:
@@ -53,16 +76,21 @@ class LockstepGate:
 
     Args:
         max_lead_ns: how far (ns of sim time) the sim may run ahead of the slowest participant.
-        timeout: wall seconds of silence after which a participant is dropped.
+        timeout: wall seconds of silence after which a live participant is dropped.
         wall_now: the wall time (s) the gate starts at; the startup timeout counts from here.
         expected: roles that must each have reported before the sim takes its first step.
         startup_timeout: wall seconds to wait for the expected roles before giving up on them.
+        dead_grace: wall seconds of silence after which a participant whose process is gone is dropped.
+        alive: whether a participant's process still exists (default :func:`process_alive`).
     """
 
     def __init__(self, max_lead_ns: int, timeout: float, wall_now: float,
-                 expected: Iterable[str] = (), startup_timeout: float = 60.0) -> None:
+                 expected: Iterable[str] = (), startup_timeout: float = 60.0, dead_grace: float = 1.0,
+                 alive: Callable[[str], bool] = process_alive) -> None:
         self.max_lead_ns = max_lead_ns
         self.timeout = timeout
+        self.dead_grace = min(dead_grace, timeout)
+        self._alive = alive
         self._live: dict[str, _Participant] = {}
         self._missing = set(expected)
         self._started_wall = wall_now
@@ -136,9 +164,13 @@ class LockstepGate:
         if self._suspended_at is not None:
             return
         for name, p in list(self._live.items()):
-            if wall_now - p.heard_wall >= self.timeout:
+            silent = wall_now - p.heard_wall
+            if silent < self.dead_grace:
+                continue
+            gone = not self._alive(name)
+            if gone or silent >= self.timeout:
                 del self._live[name]
-                self._dropped.append(Dropped(role_of(name), name, wall_now - p.heard_wall))
+                self._dropped.append(Dropped(role_of(name), name, silent, gone))
         if self._missing and wall_now >= self._startup_deadline:
             silent = wall_now - self._started_wall
             self._dropped.extend(Dropped(role, None, silent) for role in sorted(self._missing))

@@ -78,14 +78,15 @@ class LockstepParams:
         enabled: never step more than ``max_lead`` beyond the slowest participant's report.
         max_lead: s of sim time the sim may run ahead of the slowest participant (one control
             period of a 20 Hz controller); at least one physics step, or the sim could never step.
-        timeout: wall seconds without a report after which a participant is dropped (one warning).
+        timeout: wall seconds without a report after which a live participant is dropped (one
+            warning); one whose process is gone is dropped after 1 s (sim2d/core/lockstep.py).
         startup_timeout: wall seconds to wait for the ``participants`` roles before the first step.
         participants: roles (``nav2``, ``localization``...) that must report before the sim steps.
     """
 
     enabled: bool = False
     max_lead: float = 0.05
-    timeout: float = 5.0
+    timeout: float = 30.0
     startup_timeout: float = 60.0
     participants: tuple[str, ...] = ()
 

@@ -12,7 +12,8 @@ blocks, the sim sends /clock at its current time and cancels the stepping timer 
 progress report that moves the limit steps on at once, in its own callback, and restarts the timer
 only if that burst does not reach the limit again. A 0.1 s wall watchdog re-sends /clock while
 blocked (participants answer a repeated /clock with a report, late joiners learn the time), drops
-the participants silent for ``lockstep.timeout`` with one warning each, and lets the sim go on.
+the participants silent for ``lockstep.timeout`` (or DEAD_GRACE once their process is gone) with
+one warning each, and lets the sim go on.
 In max mode (``real_time_factor`` 0) the stepping timer fires every 1 ms and each burst stops
 after 20 ms of wall time, so cmd_vel and progress callbacks get their turn in between.
 
@@ -67,6 +68,7 @@ MAX_MODE_TICK = 0.001      # wall seconds between bursts in max mode: the execut
 MAX_MODE_BUDGET = 0.02     # wall seconds of stepping per burst (cmd_vel and progress wait at most this)
 MAX_LAG = 0.25             # sim seconds of backlog dropped rather than caught up in a burst
 WATCHDOG_PERIOD = 0.1      # wall seconds between lockstep checks (timeouts, repeated /clock)
+DEAD_GRACE = 1.0           # wall seconds of silence before a participant whose process is gone is dropped
 
 RELIABLE_10 = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
@@ -238,7 +240,7 @@ class Sim2dNode(Node):
         cfg = self.config.lockstep
         now = time.monotonic()
         self.gate = LockstepGate(round(cfg.max_lead * 1e9), cfg.timeout, now, cfg.participants,
-                                 cfg.startup_timeout)
+                                 cfg.startup_timeout, DEAD_GRACE)
         self.create_subscription(Header, PROGRESS_TOPIC, self._on_progress, PROGRESS_QOS)
         self.create_timer(WATCHDOG_PERIOD, self._lockstep_watchdog, clock=wall)
         waits = "waits for no role before stepping"
@@ -247,7 +249,8 @@ class Sim2dNode(Node):
                      f"(at most {cfg.startup_timeout} s wall)")
         self.get_logger().info(
             f"sim2d: lockstep on: at most {cfg.max_lead} s of sim time ahead of the slowest participant "
-            f"on {PROGRESS_TOPIC}; {waits}; a participant silent for {cfg.timeout} s wall is dropped")
+            f"on {PROGRESS_TOPIC}; {waits}; a participant silent for {cfg.timeout} s wall, or for "
+            f"{DEAD_GRACE} s once its process is gone, is dropped")
         if cfg.max_lead < REPORT_PERIOD + 1.0 / self.config.node.clock_rate:
             self.get_logger().warning(
                 f"sim2d: lockstep.max_lead {cfg.max_lead} s is under one participant report period plus one "
@@ -265,6 +268,10 @@ class Sim2dNode(Node):
                 self.get_logger().warning(
                     f"lockstep: {dropped.role} has not reported within {cfg.startup_timeout} s wall "
                     "(lockstep.startup_timeout); the simulator goes on without it")
+            elif dropped.gone:
+                self.get_logger().warning(
+                    f"lockstep: {dropped.role} ({dropped.name}) is gone (its process has exited without "
+                    "leaving); the simulator goes on without it")
             else:
                 self.get_logger().warning(
                     f"lockstep: {dropped.role} ({dropped.name}) has not reported for {cfg.timeout} s wall; "

@@ -2,14 +2,46 @@
 
 from __future__ import annotations
 
-from sim2d.core.lockstep import HOLD, LEAVE_NS, Dropped, LockstepGate, role_of
+import os
+import subprocess
+import sys
+
+from sim2d.core.lockstep import HOLD, LEAVE_NS, Dropped, LockstepGate, process_alive, role_of
 
 MS = 1_000_000        # ns
 LEAD = 50 * MS        # ns: one 20 Hz control period
 
 
 def _gate(expected: tuple[str, ...] = (), wall: float = 100.0) -> LockstepGate:
-    return LockstepGate(LEAD, timeout=5.0, wall_now=wall, expected=expected, startup_timeout=60.0)
+    return LockstepGate(LEAD, timeout=5.0, wall_now=wall, expected=expected, startup_timeout=60.0,
+                        alive=lambda name: True)
+
+
+def test_a_participant_whose_process_is_gone_is_dropped_after_the_grace_not_the_timeout() -> None:
+    """A crash must not stall the world for the whole timeout, and a live process starved by a
+    busy machine must not be given up on after a second: the pid in the name tells them apart."""
+    gone = {"planner:9"}
+    gate = LockstepGate(LEAD, timeout=30.0, wall_now=100.0, dead_grace=1.0,
+                        alive=lambda name: name not in gone)
+    gate.report("planner:9", 100 * MS, 100.0)
+    gate.report("nav2:1", 50 * MS, 100.0)
+    assert gate.limit_ns(100.9) == 50 * MS + LEAD
+    assert gate.take_dropped() == []
+    gate.report("nav2:1", 400 * MS, 101.0)
+    assert gate.limit_ns(101.0) == 400 * MS + LEAD                 # 1.0 s silent, process gone: dropped now
+    assert gate.take_dropped() == [Dropped("planner", "planner:9", 1.0, gone=True)]
+    assert gate.limit_ns(130.9) == 400 * MS + LEAD                 # nav2 silent 29.9 s, alive: waited for
+    assert gate.take_dropped() == []
+    gate.limit_ns(131.0)
+    assert gate.take_dropped() == [Dropped("nav2", "nav2:1", 30.0)]
+
+
+def test_process_alive_checks_the_pid_in_the_name() -> None:
+    finished = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                              text=True, check=True)
+    assert process_alive(f"nav2:{os.getpid()}")
+    assert not process_alive(f"nav2:{finished.stdout.strip()}")   # exited and reaped
+    assert process_alive("a_node_without_pid")                     # nothing to check: the timeout decides
 
 
 def test_no_participant_means_no_limit() -> None:
