@@ -12,25 +12,21 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
+from ros_tools.scenarios.outcome import MissionFacts
 from ros_tools.scenarios.schema import Expect
 
 
 @dataclass(frozen=True)
-class Outcome:
-    """One run's facts. ``result`` is SUCCESS, ABORT, TIMEOUT (the mission's own wall-clock limit or
-    the farm's), STACK (the stack died or never came up) or ERROR (the runner itself failed: ``detail``).
+class Outcome(MissionFacts):
+    """One run's facts: the mission's own (:class:`MissionFacts`, from its console) and the farm's.
+    ``result`` is SUCCESS, ABORT, TIMEOUT (the mission's own wall-clock limit or the farm's), STACK (the
+    stack died or never came up) or ERROR (the runner itself failed: ``detail``).
 
     sim_time: s of sim time the mission took; wall_time: s of wall time the scenario took, bringup
     included; max_localization_error: m (AMCL against the truth); artifacts: name → path; attempts: how
     many times the scenario was started (2 when a cluster worker died under it and it was re-queued).
     """
 
-    result: str
-    detail: str = ""
-    final_state: str | None = None
-    tag: str | None = None
-    result_code: int | None = None
-    sim_time: float | None = None
     collisions: int | None = None
     max_localization_error: float | None = None
     exit_code: int | None = None

@@ -19,6 +19,7 @@ import re
 import sys
 import time
 from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 
 from ros_tools.launch import Launcher, LaunchError, ProcessSpec
@@ -154,9 +155,9 @@ def _finish(plan: commands.RunPlan, facts: outcome.MissionFacts, code: int | Non
             _write_report(plan)
     if plan.report.exists():
         artifacts["report"] = str(plan.report)
-    sim_time = facts.sim_time if facts.sim_time is not None else span
-    return Outcome(facts.result, facts.detail, facts.final_state, facts.tag, facts.result_code, sim_time,
-                   collisions, error, code, wall, applied, artifacts)
+    mission = asdict(facts) | {"sim_time": facts.sim_time if facts.sim_time is not None else span}
+    return Outcome(**mission, collisions=collisions, max_localization_error=error, exit_code=code,
+                   wall_time=wall, events_applied=applied, artifacts=artifacts)
 
 
 def _write_report(plan: commands.RunPlan) -> None:
