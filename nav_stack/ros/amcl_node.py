@@ -37,7 +37,6 @@ the health check's thresholds ``health.*`` (HealthParams).
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -63,7 +62,10 @@ from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_s
 from ros_tools.tf.transform import Transform
 
 NODE_NAME = "amcl"
-SCAN_TF_WAIT = 1.0  # wall s a scan may wait for odometry at its stamp (a loaded process lags on /tf)
+#: s of the node clock (sim s under use_sim_time) a scan may wait for odometry at its stamp. Node time,
+#: not wall time: under lockstep the simulator cannot run on while this process lags, so a scan is
+#: dropped only when its odometry truly never came, never because the machine was busy.
+SCAN_TF_WAIT = 1.0
 PENDING_POLL_PERIOD = 0.01  # wall s
 TF_REPUBLISH_PERIOD = 0.1  # wall s
 WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
@@ -214,7 +216,7 @@ class AmclNode(NavLifecycleNode):
             return False
         self._last_scan_stamp = -math.inf
         self.get_logger().info(f"Setting pose from {source}: {pose[0]:.3f} {pose[1]:.3f} {pose[2]:.3f}")
-        now = self.get_clock().now().nanoseconds * 1e-9
+        now = self._now()
         odom = self._odom_pose(None)
         self._publish_estimate(now, odom)
         return True
@@ -229,7 +231,7 @@ class AmclNode(NavLifecycleNode):
             return
         if stamp_to_seconds(msg.header.stamp) <= self._last_scan_stamp:
             return  # older than (or the same as) a scan already used: out of order or replayed
-        self._pending_scan = (msg, time.monotonic())  # replaces an older scan still waiting
+        self._pending_scan = (msg, self._now())  # replaces an older scan still waiting
         self._process_pending_scan()
         if self._pending_scan is not None:
             self._pending_timer.reset()
@@ -248,7 +250,7 @@ class AmclNode(NavLifecycleNode):
         try:
             odom: Pose | None = self._lookup_pose(stamp)
         except ExtrapolationError as error:
-            if "future" in str(error) and time.monotonic() - received < SCAN_TF_WAIT:
+            if "future" in str(error) and self._now() - received < SCAN_TF_WAIT:
                 return  # odometry for this stamp may still be on its way
             odom = None
             self.get_logger().warning(f"Dropped the scan at {stamp:.3f} s: no odometry at its stamp "
@@ -262,6 +264,10 @@ class AmclNode(NavLifecycleNode):
         if odom is not None:
             self._last_scan_stamp = stamp
             self._update(msg, stamp, odom, laser)
+
+    def _now(self) -> float:
+        """The node clock in s (sim time under use_sim_time)."""
+        return float(self.get_clock().now().nanoseconds * 1e-9)
 
     def _lookup_pose(self, stamp: float | None) -> Pose:
         t = self.tf.lookup(self.params.odom_frame_id, self.params.base_frame_id, stamp)
@@ -338,7 +344,7 @@ class AmclNode(NavLifecycleNode):
 
     def _republish_tf(self) -> None:
         """Keep map→odom valid while scans stop (robot idle, sensor down): re-send the last estimate."""
-        now = self.get_clock().now().nanoseconds * 1e-9
+        now = self._now()
         tolerance = self.params.transform_tolerance
         if self._map_to_odom is not None and now + tolerance / 2.0 > self._last_tf_stamp:
             self._send_tf(now + tolerance)

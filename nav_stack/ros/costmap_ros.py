@@ -8,9 +8,10 @@ owner drives this node's transitions from its own and reads the costs directly t
 
 Data in: the map (``<static>.map_topic``, transient local), laser scans (``<obstacle>.<source>.topic``,
 sensor QoS), the robot pose from TF. A scan is added with the sensor pose at its stamp; when TF has
-not caught up with the stamp yet the scan waits (at most ``transform_tolerance`` + 1 s) and is
-retried each cycle. Readings follow REP 117: -inf (closer than range_min) and NaN are dropped, +inf
-("no return") clears up to the raytrace range when ``inf_is_valid`` (our yaml enables it).
+not caught up with the stamp yet the scan waits (at most ``transform_tolerance`` + 1 s of the node clock,
+sim s under use_sim_time, so a busy machine never drops it) and is retried each cycle. Readings
+follow REP 117: -inf (closer than range_min) and NaN are dropped, +inf ("no return") clears up to
+the raytrace range when ``inf_is_valid`` (our yaml enables it).
 
 Out: ``costmap`` (OccupancyGrid), ``costmap_raw`` (nav2_msgs/Costmap), ``published_footprint``
 (PolygonStamped), all reliable transient local depth 1, at ``publish_frequency``; services
@@ -23,7 +24,6 @@ namespace (Nav2's joinWithParentNamespace), so ``map`` is ``/map``.
 from __future__ import annotations
 
 import threading
-import time
 from collections import deque
 
 import numpy as np
@@ -55,7 +55,7 @@ from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
 from ros_tools.tf import TransformError
 from ros_tools.tf.ros import stamp_to_seconds
 
-SCAN_WAIT_SLACK = 1.0  # s a scan may wait for TF beyond transform_tolerance
+SCAN_WAIT_SLACK = 1.0  # s of the node clock a scan may wait for TF beyond transform_tolerance
 FIRST_UPDATE_RETRY = 0.1  # s between attempts at the first update, when update_frequency is slower
 
 
@@ -218,7 +218,7 @@ class CostmapROS(NavLifecycleNode):
         return not self._cleared
 
     def _on_scan(self, msg: LaserScanMsg) -> None:
-        self._pending_scans.append((msg, time.monotonic()))
+        self._pending_scans.append((msg, self.get_clock().now().nanoseconds * 1e-9))
         self._add_scans()
         if self._cleared and self._scan_since_clear:
             self._update()  # current again with the first scan, not at the next timer tick
@@ -227,13 +227,14 @@ class CostmapROS(NavLifecycleNode):
         """Give the obstacle layers every waiting scan whose sensor pose TF can now tell."""
         assert self.frames is not None and self.costmap is not None
         keep: deque[tuple[LaserScanMsg, float]] = deque(maxlen=50)
+        now = self.get_clock().now().nanoseconds * 1e-9
         while self._pending_scans:
             msg, received = self._pending_scans.popleft()
             try:
                 tf = self.frames.listener.lookup(self.global_frame, msg.header.frame_id,
                                                  stamp_to_seconds(msg.header.stamp))
             except TransformError:
-                if time.monotonic() - received < self.params.transform_tolerance + SCAN_WAIT_SLACK:
+                if now - received < self.params.transform_tolerance + SCAN_WAIT_SLACK:
                     keep.append((msg, received))
                 continue
             try:
