@@ -1,5 +1,6 @@
 """A waffle beside a pillar, with contact: a costmap drawn the way the lidar draws it, and a
-kinematic step that refuses any motion which would push the robot's box into the round pillar.
+kinematic step that refuses any motion which would push the robot's box into the round pillar; and
+turtlebot3_world's static costmap, where the seed's tight spots are.
 
 Why a helper: the controller's collision checks see the pillar as 5 cm cells, while the simulator
 collides the exact shapes. The tight spots where the two disagree (the battery patrol's location3)
@@ -9,7 +10,9 @@ simplest that jams: a blocked step does not happen at all, and odometry then mea
 
 from __future__ import annotations
 
+import functools
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -18,6 +21,9 @@ from nav_stack.core.costmap import CostmapParams, InflationLayer, LayeredCostmap
 from nav_stack.core.costmap.params import InflationLayerParams
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
+from nav_stack.core.map_io import load_map
+
+REPO = Path(__file__).resolve().parents[2]
 
 #: turtlebot3_world's pillar beside location3: centre (m) and radius (m)
 PILLAR, PILLAR_RADIUS = (-1.1, -1.1), 0.15
@@ -64,3 +70,14 @@ def step_with_contact(pose: Pose2D, cmd: Twist2D, dt: float) -> tuple[Pose2D, Tw
     if box_clearance(moved) < 0.0:
         return pose, Twist2D(0.0, 0.0)
     return moved, cmd
+
+
+@functools.cache
+def tb3_world_grid() -> CostGrid:
+    """turtlebot3_world's static global costmap (static + inflation layers, the yaml's values)."""
+    occupancy = load_map(REPO / "maps" / "turtlebot3_world.yaml")
+    params = CostmapParams(robot_radius=0.22)
+    costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
+    costmap.set_map(occupancy.data, occupancy.spec)
+    costmap.update(Pose2D(0.0, 0.0, 0.0))
+    return CostGrid(costmap.costs, costmap.spec)

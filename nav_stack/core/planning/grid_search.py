@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 
 NEUTRAL_COST = 50.0  # NavFn COST_NEUTRAL: traversal cost of a free cell
 COST_FACTOR = 0.8  # NavFn COST_FACTOR: weight of the costmap value
@@ -116,9 +116,15 @@ def open_escape(
 
     A robot that ended up with its centre in the inscribed band of an obstacle (cost 253, not lethal)
     would otherwise get START_OCCUPIED or NO_VALID_PATH and stay wedged. NavFn clears only the robot's
-    own cell, which does not help when its neighbours are inscribed too. Here the start cell and every
-    inscribed cell within ``radius_cells`` of it become passable at ``escape_cost`` (the planner's
-    highest traversal cost), so the path leaves the band the shortest way. Lethal cells stay blocked.
+    own cell, which does not help when its neighbours are inscribed too. Here the start cell and the
+    inscribed cells within ``radius_cells`` of it that are no closer to a lethal cell than the start
+    (to within half a cell) become passable at ``escape_cost`` (the planner's highest traversal cost),
+    so the path leaves the band the shortest way. Lethal cells stay blocked.
+
+    Why "no closer": with every inscribed cell near the start open, a robot at the edge of a pillar's
+    band planned straight through the band, 7 cm from the pillar's cells, because that was cheaper than
+    going round; the controller found no valid command on that path and the seed tree's patrol failed
+    (a looped system test, 1 run in 15). The escape must lead out, never deeper in.
     """
     mx, my = start
     height, width = costs.shape
@@ -126,7 +132,9 @@ def open_escape(
     y0, y1 = max(0, my - radius_cells), min(height, my + radius_cells + 1)
     yy, xx = np.mgrid[y0:y1, x0:x1]
     near = (xx - mx) ** 2 + (yy - my) ** 2 <= radius_cells**2
-    escape = near & (costs[y0:y1, x0:x1] == INSCRIBED_INFLATED_OBSTACLE)
+    clearance = _lethal_distance(costs, xx, yy, radius_cells)  # cells
+    outward = clearance >= clearance[my - y0, mx - x0] - 0.5
+    escape = near & (costs[y0:y1, x0:x1] == INSCRIBED_INFLATED_OBSTACLE) & outward
     escape[my - y0, mx - x0] = True
     codes = bytearray(graph.codes)
     blocked = bytearray(graph.blocked)
@@ -137,6 +145,21 @@ def open_escape(
     table = list(graph.table)
     table[ESCAPE_CODE] = escape_cost
     return SearchGraph(graph.width, graph.height, bytes(codes), table, bytes(blocked))
+
+
+def _lethal_distance(costs: npt.NDArray[np.uint8], xx: npt.NDArray[np.int64], yy: npt.NDArray[np.int64],
+                     reach: int) -> npt.NDArray[np.float64]:
+    """Distance (cells) from each cell (``xx``, ``yy``) to the nearest lethal cell at most ``reach``
+    cells beyond the window they span; inf where none is that close."""
+    height, width = costs.shape
+    x0, x1 = max(0, int(xx.min()) - reach), min(width, int(xx.max()) + reach + 1)
+    y0, y1 = max(0, int(yy.min()) - reach), min(height, int(yy.max()) + reach + 1)
+    ly, lx = np.nonzero(costs[y0:y1, x0:x1] == LETHAL_OBSTACLE)
+    if len(lx) == 0:
+        return np.full(xx.shape, np.inf)
+    dx = xx[..., None] - (lx + x0)
+    dy = yy[..., None] - (ly + y0)
+    return np.asarray(np.sqrt(dx * dx + dy * dy).min(axis=-1), dtype=np.float64)
 
 
 @dataclass

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 from pathlib import Path
@@ -38,12 +37,10 @@ from nav_stack.core.control.rpp_params import (
     obstacle_distance_from_cost,
     regulated_speed,
 )
-from nav_stack.core.costmap import CostmapParams, InflationLayer, LayeredCostmap, StaticLayer
 from nav_stack.core.geometry import Pose2D, headings_along
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, GridSpec
-from nav_stack.core.map_io import load_map
 from nav_stack.core.planning.navfn import NavfnParams, NavfnPlanner
-from tests.helpers.tight_spot import WAFFLE_BOX
+from tests.helpers.tight_spot import WAFFLE_BOX, tb3_world_grid
 
 REPO = Path(__file__).resolve().parents[3]
 DT = 0.05  # 20 Hz controller
@@ -435,17 +432,6 @@ def test_rpp_with_its_back_to_a_wall_steps_away_before_turning_toward_a_path_tha
     assert reached, pose
     xs, ys, yaws = (np.array([getattr(p, f) for p in poses]) for f in ("x", "y", "yaw"))
     assert not waffle.body.collides(waffle.body.cost(grid, xs, ys, yaws)).any()
-
-
-@functools.cache
-def tb3_world_grid() -> CostGrid:
-    """turtlebot3_world's static global costmap (static + inflation layers, the yaml's values)."""
-    occupancy = load_map(REPO / "maps" / "turtlebot3_world.yaml")
-    params = CostmapParams(robot_radius=0.22)
-    costmap = LayeredCostmap(params, [StaticLayer(params), InflationLayer()])
-    costmap.set_map(occupancy.data, occupancy.spec)
-    costmap.update(Pose2D(0.0, 0.0, 0.0))
-    return CostGrid(costmap.costs, costmap.spec)
 
 
 @pytest.mark.parametrize("heading", [-3.14, -2.36, -1.57, -0.79, 0.0, 0.79])

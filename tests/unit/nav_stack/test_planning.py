@@ -21,6 +21,7 @@ from nav_stack.core.planning import (
 )
 from nav_stack.core.planning.grid_search import navfn_traversal_costs
 from nav_stack.core.planning.navfn import EQUALLY_NEAR
+from tests.helpers.tight_spot import tb3_world_grid
 
 RES = 0.1
 NEIGHBOURS = [(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1) if (dx, dy) != (0, 0)]
@@ -292,6 +293,23 @@ def test_theta_star_paths_are_free_and_no_longer_than_grid_paths() -> None:
         assert path_length(theta) <= path_length(grid) + 1e-9
         compared += 1
     assert compared >= 10
+
+
+@pytest.mark.parametrize("planner", [NavfnPlanner(NavfnParams(tolerance=0.5)), ThetaStarPlanner()],
+                         ids=["navfn", "theta_star"])
+def test_an_escape_from_a_pillars_band_never_runs_deeper_into_it(planner) -> None:  # type: ignore[no-untyped-def]
+    """The seed tree's patrol failed in a looped system test: the robot, at the edge of the inscribed band
+    of the pillar at (-1.1, -1.1) on its way to location3, got a path straight through that band, 0.226 m
+    from the pillar's centre (0.076 m from its surface): every inscribed cell within the escape radius
+    was open, and the chord was cheaper than going round. RPP found no valid command on it. The escape
+    now opens only cells no closer to a lethal cell than the start. turtlebot3_world's static costmap."""
+    grid = tb3_world_grid()
+    start = Pose2D(-0.834, -1.345, math.pi)  # AMCL's pose in the run
+    mx, my = grid.spec.world_to_cell(np.array([start.x]), np.array([start.y]))
+    assert grid.costs[my[0], mx[0]] == 253
+    path = planner.create_plan(start, Pose2D(-1.43, -1.34, math.pi), grid.costs, grid.spec)
+    from_pillar = np.hypot(path[:, 0] + 1.1, path[:, 1] + 1.1)
+    assert from_pillar.min() >= math.hypot(start.x + 1.1, start.y + 1.1) - 0.05
 
 
 def cuts_a_corner(costs: np.ndarray, cells: list[tuple[int, int]]) -> bool:
