@@ -114,7 +114,7 @@ class BtActionNode(StatefulActionNode):
         self._goal = goal
         self._goal_future = client.send_goal_async(goal)
         self._sent_at = self.ros.clock()
-        self.ros.hold_lockstep(self._goal_future.done)  # server_timeout counts sim time, not DDS's
+        self.ros.hold_lockstep(self._goal_future)  # server_timeout counts sim time, not DDS's
         self._phase = _Phase.SENT
 
     # -- StatefulActionNode --------------------------------------------------------------------------

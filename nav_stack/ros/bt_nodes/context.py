@@ -79,10 +79,11 @@ class BtRosContext:
         self.robot_base_frame = "base_link"
         self.transform_tolerance = 0.1  # s
 
-    def hold_lockstep(self, until: Callable[[], bool]) -> None:
-        """Keep a lockstep simulator from stepping on until ``until()`` (bounded in wall time): for a
-        request whose sim-time ``server_timeout`` must not race the wall time it spends in DDS."""
-        hold_process(until)
+    def hold_lockstep(self, pending: Any) -> None:
+        """Keep a lockstep simulator from stepping on until the future ``pending`` is done (bounded in
+        wall time): for a request whose sim-time ``server_timeout`` must not race the wall time it
+        spends in DDS. Its completion sends the withheld progress report at once."""
+        hold_process(pending.done, wake=pending)
 
     def action_client(self, action_type: type, name: str) -> ActionClient:
         """The (cached) client of action ``name``."""

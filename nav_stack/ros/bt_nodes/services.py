@@ -58,7 +58,7 @@ class BtServiceNode(StatefulActionNode):
     def _send(self) -> None:
         self._future = self._client().call_async(self.make_request())
         self._sent_at = self.ros.clock()
-        self.ros.hold_lockstep(self._future.done)  # server_timeout counts sim time, not DDS's
+        self.ros.hold_lockstep(self._future)  # server_timeout counts sim time, not DDS's
 
     def on_start(self) -> NodeStatus:
         self._future = None

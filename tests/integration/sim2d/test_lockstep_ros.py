@@ -23,6 +23,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Header
 from std_srvs.srv import SetBool
@@ -237,6 +238,24 @@ def test_a_hold_stops_the_sim_until_its_condition_or_its_grace_runs_out(ros_cont
 
         participant.hold(broken, grace=30.0)  # a failing condition releases its hold at once
         rig.spin_until(lambda: rig.newest_clock() > held_at + 3 * S, "the sim to go on past a broken hold")
+        participant.destroy()
+
+
+def test_a_hold_released_by_its_future_reports_the_withheld_time_at_once(ros_context: Any) -> None:
+    """hold(..., wake=future): when the request's future completes, the report the hold kept back goes
+    out from the future's callback, not at the next /clock (which a blocked simulator re-sends only
+    every 0.1 s of wall time: behavior-tree requests cost the seed mission 30 % of its speed)."""
+    with lockstep_rig(ros_context, "events", participants=["stack"]) as rig:
+        participant = LockstepParticipant(rig.fake, "stack")
+        rig.spin_until(lambda: rig.newest_clock() > S, "1 s of sim time in lockstep")
+        answer = Future()
+        participant.hold(answer.done, grace=30.0, wake=answer)
+        held_at = participant.reported_ns
+        rig.wait_for_repeated_clocks()  # the sim waits at the lead
+        assert participant.reported_ns == held_at
+        answer.set_result(True)  # no executor attached: its done callbacks run here and now
+        assert participant.reported_ns > held_at  # the newest /clock taken, reported without a new one
+        rig.spin_until(lambda: rig.newest_clock() > held_at + S, "the sim to go on after the answer")
         participant.destroy()
 
 
