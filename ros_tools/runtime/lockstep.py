@@ -33,6 +33,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
@@ -43,8 +44,10 @@ CLOCK_TOPIC = "/clock"
 PROGRESS_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
-#: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 30 s)
+#: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 10 s)
 REQUEST_HOLD = 2.0
+#: wall s a leaving participant waits for the simulator to acknowledge its leave (teardown only)
+LEAVE_ACK_WAIT = 1.0
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
 
@@ -111,7 +114,7 @@ class LockstepParticipant:
         takes wall time; at ``--rtf max`` the simulator would run on by seconds of sim time
         meanwhile, and a sim-time timeout racing that message (a state's 15 s fallback timer against
         the first bond heartbeat) would be decided by the machine's load. Keep ``grace`` under the
-        simulator's ``lockstep.timeout`` (30 s), or it drops this participant.
+        simulator's ``lockstep.timeout`` (10 s), or it drops this participant.
 
         ``wake``: a future (``add_done_callback``) whose completion releases the hold. The withheld
         report is then sent at once, instead of at the next /clock: a simulator blocked on this
@@ -151,10 +154,16 @@ class LockstepParticipant:
         """Tell the simulator not to wait for this process any more (a zero stamp).
 
         After Ctrl-C the context is already shut down and nothing can be sent: the simulator then
-        drops this participant after its ``lockstep.timeout``.
+        drops this participant once its process is gone (or after ``lockstep.timeout``).
+
+        The leave waits (at most LEAVE_ACK_WAIT wall s) until the simulator has acknowledged it: a
+        publisher destroyed right after writing can take the sample with it, and a process that lives
+        on (a test session) is then waited for the whole ``lockstep.timeout``. Seen in CI run CA: the
+        next test of the module found the simulator stopped and no ground truth for 20 s.
         """
         if self.node.context.ok():
             self._pub.publish(Header(frame_id=self.name))
+            self._pub.wait_for_all_acked(Duration(seconds=LEAVE_ACK_WAIT))
 
     def destroy(self) -> None:
         """Leave, then destroy the subscription and the publisher."""

@@ -86,7 +86,7 @@ class LockstepParams:
 
     enabled: bool = False
     max_lead: float = 0.05
-    timeout: float = 30.0
+    timeout: float = 10.0
     startup_timeout: float = 60.0
     participants: tuple[str, ...] = ()
 

@@ -45,7 +45,7 @@ from tests.helpers.ros import wait_until
 pytestmark = pytest.mark.ros
 Codes = FollowPath.Result
 LOCKSTEP_ROLE = "controller_test"
-HOLD_GRACE = 4.0  # wall s; under the simulator's lockstep.timeout (30 s), which would drop this test
+HOLD_GRACE = 4.0  # wall s; under the simulator's lockstep.timeout (10 s), which would drop this test
 
 
 @pytest.fixture(scope="module")
