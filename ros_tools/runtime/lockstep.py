@@ -33,7 +33,6 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
@@ -46,8 +45,6 @@ CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
 #: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 10 s)
 REQUEST_HOLD = 2.0
-#: wall s a leaving participant waits for the simulator to acknowledge its leave (teardown only)
-LEAVE_ACK_WAIT = 1.0
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
 
@@ -82,9 +79,11 @@ class LockstepParticipant:
         self._last_report_ns = -1
         self._holds: list[tuple[Callable[[], bool], float]] = []  # (until, wall deadline)
         self._holds_lock = threading.Lock()  # hold() may come from another thread than /clock's
+        #: orders reports against the leave: destroy() may run on another thread than /clock's
+        self._publish_lock = threading.Lock()
         self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
-        self._destroyed = False
+        self._left = False
         _PROCESS_PARTICIPANTS.append(self)
 
     @property
@@ -93,7 +92,7 @@ class LockstepParticipant:
         return self._last_report_ns
 
     def _on_clock(self, msg: Clock) -> None:
-        if self._destroyed:  # a /clock the executor had queued before destroy()
+        if self._left:  # a /clock the executor had queued before the leave
             return
         now = msg.clock.sec * 1_000_000_000 + msg.clock.nanosec
         repeated = now <= self._last_clock_ns  # the simulator re-sends its time while it waits
@@ -130,7 +129,7 @@ class LockstepParticipant:
     def _report_withheld(self) -> None:
         """Report the last /clock taken off the queue if a hold kept it back and none holds any more."""
         clock_ns = self._last_clock_ns
-        if self._destroyed or self._ready is not None or clock_ns <= self._last_report_ns or self._held():
+        if self._left or self._ready is not None or clock_ns <= self._last_report_ns or self._held():
             return
         self._report(clock_ns)
 
@@ -147,8 +146,11 @@ class LockstepParticipant:
         now_ns = max(now_ns, 1)
         header = Header(frame_id=self.name)
         header.stamp.sec, header.stamp.nanosec = divmod(now_ns, 1_000_000_000)
-        self._pub.publish(header)
-        self._last_report_ns = now_ns
+        with self._publish_lock:
+            if self._left:  # left already: a report now would make the simulator wait again
+                return
+            self._pub.publish(header)
+            self._last_report_ns = now_ns
 
     def leave(self) -> None:
         """Tell the simulator not to wait for this process any more (a zero stamp).
@@ -156,21 +158,24 @@ class LockstepParticipant:
         After Ctrl-C the context is already shut down and nothing can be sent: the simulator then
         drops this participant once its process is gone (or after ``lockstep.timeout``).
 
-        The leave waits (at most LEAVE_ACK_WAIT wall s) until the simulator has acknowledged it: a
-        publisher destroyed right after writing can take the sample with it, and a process that lives
-        on (a test session) is then waited for the whole ``lockstep.timeout``. Seen in CI run CA: the
-        next test of the module found the simulator stopped and no ground truth for 20 s.
+        No report follows the leave, whichever thread is spinning. A /clock callback running on the
+        executor's thread while a test's main thread leaves used to send one more report: the
+        simulator took the participant back and, once it was destroyed, waited ``lockstep.timeout``
+        for a process that was alive (CI run CA: the next test of the module found no ground truth
+        for 20 s). The leave does not wait for the simulator's acknowledgement: the sample is on the
+        wire when ``publish`` returns (synchronous publication), and Fast DDS acknowledges it only
+        at the writer's next heartbeat, so such a wait cost a second per teardown and saved nothing.
         """
+        with self._publish_lock:
+            self._left = True
         if self.node.context.ok():
             self._pub.publish(Header(frame_id=self.name))
-            self._pub.wait_for_all_acked(Duration(seconds=LEAVE_ACK_WAIT))
 
     def destroy(self) -> None:
         """Leave, then destroy the subscription and the publisher."""
         if self in _PROCESS_PARTICIPANTS:
             _PROCESS_PARTICIPANTS.remove(self)
         self.leave()
-        self._destroyed = True
         self.node.destroy_subscription(self._sub)
         self.node.destroy_publisher(self._pub)
 

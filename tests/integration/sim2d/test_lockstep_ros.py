@@ -216,6 +216,22 @@ def test_the_real_participant_class_keeps_the_sim_going(ros_context: Any) -> Non
         participant.destroy()
 
 
+def test_a_leave_is_final_however_many_clocks_follow(ros_context: Any) -> None:
+    """After leave() the participant reports nothing more, though its subscription still takes
+    /clock: one more report would make the simulator take it back and, once it is destroyed, wait
+    lockstep.timeout for a process that is alive (a test's main thread leaving while its executor
+    thread still handles /clock)."""
+    with lockstep_rig(ros_context, "events", participants=["stack"]) as rig:
+        participant = LockstepParticipant(rig.fake, "stack")
+        rig.spin_until(lambda: rig.newest_clock() > S, "1 s of sim time in lockstep")
+        participant.leave()
+        left_at = participant.reported_ns
+        rig.spin_until(lambda: rig.newest_clock() > left_at + 2 * S, "the sim to run on after the leave")
+        assert rig.sim.gate is not None and participant.name not in rig.sim.gate.participants
+        assert participant.reported_ns == left_at
+        participant.destroy()
+
+
 def test_a_hold_stops_the_sim_until_its_condition_or_its_grace_runs_out(ros_context: Any) -> None:
     """LockstepParticipant.hold: no report (so no sim time beyond the lead) while the condition is
     false, the sim goes on once it is true; an unmet condition is given up after its grace."""
