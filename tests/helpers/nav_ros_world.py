@@ -173,10 +173,16 @@ class Harness:
         assert server.trigger_configure() == TransitionCallbackReturn.SUCCESS, "configure failed"
         assert server.trigger_activate() == TransitionCallbackReturn.SUCCESS, "activate failed"
 
-    def close(self) -> None:
-        self._stopping = True  # stop spinning first: see ros_tools.runtime.runner.spin_until_shutdown
+    def stop(self) -> None:
+        """Stop spinning: after this, entities can be destroyed without racing the spinning thread."""
+        self._stopping = True  # see ros_tools.runtime.runner.spin_until_shutdown
         self._thread.join(timeout=5.0)
         self.executor.shutdown(timeout_sec=5.0)
+
+    def close(self) -> None:
+        """Stop spinning (if :meth:`stop` has not), then destroy the nodes."""
+        if not self._stopping:
+            self.stop()
         for node in self.nodes:
             node.destroy_node()
 

@@ -28,6 +28,7 @@ from nav_stack.ros.conversions import pose_stamped
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+from tests.helpers.ros import stop_spinning
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 PROGRESS_CHECKER_PERIOD = 10.0  # s of sim time: movement_time_allowance in config/nav2_params.yaml
@@ -94,7 +95,6 @@ def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bri
         assert took < PROGRESS_CHECKER_PERIOD, f"the goal took {took:.1f} s of sim time to fail"
         assert any("battery empty" in line for line in empty_battery_stack.lines), "no warning from sim2d"
     finally:
-        executor.shutdown()
+        stop_spinning(executor, thread)  # first: nothing may be destroyed under a spinning thread
         lockstep.destroy()
         node.destroy_node()
-        thread.join(timeout=5.0)

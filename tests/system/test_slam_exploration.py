@@ -100,6 +100,9 @@ class Probe:
         self.navigate = ActionClient(self.node, NavigateToPose, "navigate_to_pose")
         # In lockstep, so that it sees every ground-truth pose however loaded the machine is.
         self.lockstep = LockstepParticipant(self.node, PROBE_ROLE)
+        # Made before the executor spins, destroyed after: a subscription destroyed while another
+        # thread builds its wait set kills that thread (rclpy's InvalidHandle).
+        self.tf = TransformListener(self.node)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(target=self._spin, daemon=True)
@@ -139,8 +142,10 @@ class Probe:
             self.errors.append(math.hypot(p.x - truth[0], p.y - truth[1]))
 
     def close(self) -> None:
+        stop_spinning(self.executor, self._thread)  # first: nothing may be destroyed under a spinning thread
         self.lockstep.destroy()
-        stop_spinning(self.executor, self._thread, self.node)
+        self.tf.destroy()
+        self.node.destroy_node()
 
 
 @pytest.mark.timeout(EXPLORE_WALL_S + 300)  # phase 2: a new stack and three goals, about 70 s
@@ -180,13 +185,9 @@ def test_explore_save_and_navigate_on_the_saved_map(ros_context: Any, tmp_path: 
             wait_until(lambda: probe.navigate.server_is_ready() or not stack.alive(), 60.0,
                        "navigate_to_pose")
             # This process gets AMCL's map -> odom a while after /amcl_pose (the stack's controller
-            # shares AMCL's process and has it at once). A fresh listener: phase 1's transforms, at
-            # later sim times, are in no buffer of it.
-            tf = TransformListener(probe.node)
-            try:
-                tf.wait_for("map", "base_link", timeout=30.0)
-            finally:
-                tf.destroy()
+            # shares AMCL's process and has it at once). Phase 1's transforms would answer at once.
+            probe.tf.buffer.clear()
+            probe.tf.wait_for("map", "base_link", timeout=30.0)
             for target in GOALS:
                 goal = NavigateToPose.Goal()
                 goal.pose = pose_stamped(*target, "map", probe.node.get_clock().now().to_msg())

@@ -44,7 +44,7 @@ from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait, yaw_of
-from tests.helpers.ros import REPO
+from tests.helpers.ros import REPO, stop_spinning
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -145,6 +145,10 @@ def test_tb4_reaches_five_goals_across_the_depot(tb4_stack: Bringup, ros_context
     observer = Observer(node)
     client = ActionClient(node, NavigateToPose, "navigate_to_pose")
     lockstep = LockstepParticipant(node, "tb4_tour_client")
+    # Made before the executor spins and destroyed with the node: destroying a subscription while
+    # another thread builds its wait set kills that thread (rclpy's InvalidHandle, "cannot use
+    # Destroyable"), and the goals' acknowledgements then go unheard (seen in a loop of this test).
+    tf = TransformListener(node)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     thread = threading.Thread(target=executor.spin, daemon=True)
@@ -159,11 +163,7 @@ def test_tb4_reaches_five_goals_across_the_depot(tb4_stack: Bringup, ros_context
         # AMCL's first map -> odom is stamped a transform_tolerance (1 s of sim time) after its scan, so
         # bt_navigator refuses a goal (TF_ERROR) until odometry has caught up with it: wait, as
         # BasicNavigator waits for /amcl_pose (tests/system/test_nav2_client_compat.py).
-        tf = TransformListener(node)
-        try:
-            tf.wait_for("map", "base_link", timeout=60.0)
-        finally:
-            tf.destroy()
+        tf.wait_for("map", "base_link", timeout=60.0)
         for index in TOUR:
             x, y, yaw = SPAWNS[index]
             response, took = _navigate(client, lockstep, x, y, yaw)
@@ -184,7 +184,7 @@ def test_tb4_reaches_five_goals_across_the_depot(tb4_stack: Bringup, ros_context
         wait(lambda: observer.collisions is not None, 10.0, "/sim2d/collision_count")
         assert observer.collisions == 0, f"{observer.collisions} collisions on the tour"
     finally:
-        executor.shutdown()
+        stop_spinning(executor, thread)  # first: nothing may be destroyed under a spinning thread
         lockstep.destroy()
+        tf.destroy()
         node.destroy_node()
-        thread.join(timeout=5.0)

@@ -86,6 +86,7 @@ class Stack:
         self.lockstep = LockstepParticipant(self.probe, LOCKSTEP_ROLE)
 
     def close(self) -> None:
+        self.harness.stop()  # first: a subscription destroyed under the spinning thread kills it
         if self.lockstep is not None:
             self.lockstep.destroy()  # leaves: the simulator no longer waits for this test
         self.harness.close()
