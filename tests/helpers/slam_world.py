@@ -89,12 +89,20 @@ class World:
         mx, my = spec.world_to_cell(inside[0], inside[1])
         return _flood(open_, int(my), int(mx))
 
-    def path(self, spec: GridSpec, start: Pose2D, goal: Pose2D, clearance: float) -> list[Pose2D]:
-        """Ground-truth 8-connected BFS path (cell centres) from start to goal through cells with clearance"""
+    def path(
+        self, spec: GridSpec, start: Pose2D, goal: Pose2D, clearance: float, strict: bool = False
+    ) -> list[Pose2D]:
+        """Ground-truth 8-connected BFS path (cell centres) from start to goal through cells with clearance.
+
+        An unreachable goal gives ``[start, goal]`` (a straight jump), or ``[]`` when ``strict``: a
+        goal the SLAM placed off the map, or inside a wall, when its map is wrong.
+        """
         gx, gy = self._centres(spec)
         open_ = self._surface_distance(gx, gy) > clearance
         s = tuple(int(v) for v in spec.world_to_cell(start.x, start.y))[::-1]
         g = tuple(int(v) for v in spec.world_to_cell(goal.x, goal.y))[::-1]
+        if strict and not (0 <= g[0] < spec.height and 0 <= g[1] < spec.width and open_[g]):
+            return []
         open_[s] = open_[g] = True
         parent: dict[tuple[int, int], tuple[int, int]] = {s: s}
         queue = deque([s])
@@ -106,7 +114,7 @@ class World:
                     parent[n] = (r, c)
                     queue.append(n)
         if g not in parent:
-            return [start, goal]
+            return [] if strict else [start, goal]
         cells = [g]
         while cells[-1] != s:
             cells.append(parent[cells[-1]])
@@ -191,6 +199,114 @@ def ring_world() -> World:
         ]
     )
     return World(np.vstack([outer, inner]), pillars)
+
+
+def _wall(
+    x0: float, y0: float, x1: float, y1: float, gaps: tuple[tuple[float, float], ...] = ()
+) -> np.ndarray:
+    """An axis-aligned wall from (x0, y0) to (x1, y1) (m) as segments, with door ``gaps``.
+
+    Each gap ``(a, b)`` is an interval of the varying coordinate (x for a horizontal wall, y for a
+    vertical one) left open; the wall is split around it.
+    """
+    horizontal = y0 == y1
+    if not horizontal and x0 != x1:
+        raise ValueError("_wall builds axis-aligned walls only")
+    lo, hi = (min(x0, x1), max(x0, x1)) if horizontal else (min(y0, y1), max(y0, y1))
+    cuts = [lo]
+    for a, b in sorted(gaps):
+        cuts += [a, b]
+    cuts.append(hi)
+    pieces = [(a, b) for a, b in zip(cuts[::2], cuts[1::2], strict=True) if b - a > 1e-9]
+    if horizontal:
+        return np.array([(a, y0, b, y0) for a, b in pieces]).reshape(-1, 4)
+    return np.array([(x0, a, x0, b) for a, b in pieces]).reshape(-1, 4)
+
+
+def _box(x0: float, y0: float, x1: float, y1: float, open_side: str) -> np.ndarray:
+    """Three walls of the rectangle (x0, y0)-(x1, y1) (m): a niche or side room whose ``open_side``
+    ("n", "s", "e" or "w") lies on the corridor wall it opens from."""
+    sides = {
+        "s": (x0, y0, x1, y0),
+        "n": (x0, y1, x1, y1),
+        "w": (x0, y0, x0, y1),
+        "e": (x1, y0, x1, y1),
+    }
+    return np.array([seg for side, seg in sides.items() if side != open_side])
+
+
+def office_world() -> World:
+    """An office floor 14 x 10 m (x -7..7, y -5..5): corridors around two blocks of two rooms each.
+
+    Why: the ring has one loop; here the robot can close three (around the west block, around the
+    east block, around both) through a 2 m central corridor and 1.5 m outer corridors, each longer
+    than the lidar range. The four rooms (4.5 x 3.5 m, 0.9 m doors on different corridors) must be
+    explored through their doors, so their walls are seen from both sides, and the doors and two
+    corridor pillars are the only features along the 7 m side corridors.
+    """
+    walls = [
+        _polygon_segments([(-7.0, -5.0), (7.0, -5.0), (7.0, 5.0), (-7.0, 5.0)]),
+        # west block x -5.5..-1: north room (door north), south room (door to the central corridor)
+        _wall(-5.5, 3.5, -1.0, 3.5, gaps=((-3.7, -2.8),)),
+        _wall(-5.5, -3.5, -1.0, -3.5),
+        _wall(-5.5, -3.5, -5.5, 3.5),
+        _wall(-1.0, -3.5, -1.0, 3.5, gaps=((-2.2, -1.3),)),
+        _wall(-5.5, 0.0, -1.0, 0.0),
+        # east block x 1..5.5: north room (door to the central corridor), south room (door south)
+        _wall(1.0, 3.5, 5.5, 3.5),
+        _wall(1.0, -3.5, 5.5, -3.5, gaps=((2.8, 3.7),)),
+        _wall(5.5, -3.5, 5.5, 3.5),
+        _wall(1.0, -3.5, 1.0, 3.5, gaps=((1.3, 2.2),)),
+        _wall(1.0, 0.0, 5.5, 0.0),
+    ]
+    pillars = np.array(
+        [
+            (-6.6, 0.8, 0.12),  # west corridor
+            (6.6, -1.2, 0.12),  # east corridor
+            (-3.2, -1.8, 0.15),  # a column in each room
+            (-4.0, 2.0, 0.15),
+            (3.5, 1.6, 0.15),
+            (2.6, -1.6, 0.15),
+        ]
+    )
+    return World(np.vstack(walls), pillars)
+
+
+def large_loop_world() -> World:
+    """A 24 x 24 m square corridor ring (outer walls x, y -12..12, inner block -10..10, 2 m wide),
+    with a side room north (x -3..1, y 12..15), two niches and five pillars: 26 x 27 m in all.
+
+    Why: one lap is 88 m, so odometry and scan-matching drift pile up for a long way before the
+    first loop closure, and the closure must be found within a wide pose-graph uncertainty. The
+    features are sparse on purpose: stretches of up to 5 m where the lidar (3.5 m) sees only two
+    parallel walls leave the pose along the corridor to odometry and the matcher's prior, a fair
+    but hard test of closing a loop rather than of scan matching.
+    """
+    walls = [
+        # outer wall, with the side room's door (north), a niche (west)
+        _wall(-12.0, -12.0, 12.0, -12.0),
+        _wall(12.0, -12.0, 12.0, 12.0),
+        _wall(-12.0, 12.0, 12.0, 12.0, gaps=((-1.5, -0.6),)),
+        _wall(-12.0, -12.0, -12.0, 12.0, gaps=((-1.0, 1.0),)),
+        _box(-3.0, 12.0, 1.0, 15.0, open_side="s"),
+        _box(-13.0, -1.0, -12.0, 1.0, open_side="e"),
+        # inner block, with a niche cut into its south side
+        _wall(-10.0, -10.0, 10.0, -10.0, gaps=((-1.0, 1.0),)),
+        _box(-1.0, -10.0, 1.0, -9.0, open_side="s"),
+        _wall(10.0, -10.0, 10.0, 10.0),
+        _wall(-10.0, 10.0, 10.0, 10.0),
+        _wall(-10.0, -10.0, -10.0, 10.0),
+    ]
+    pillars = np.array(
+        [
+            (6.0, -11.6, 0.12),  # south corridor
+            (11.6, -3.0, 0.12),  # east corridor
+            (10.4, 4.0, 0.12),
+            (5.0, 10.4, 0.12),  # north corridor
+            (-10.4, 6.0, 0.12),  # west corridor
+        ]
+    )
+    return World(np.vstack(walls), pillars)
 
 
 @dataclass

@@ -15,6 +15,7 @@ Beam classes (slam_toolbox/Karto semantics):
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,6 +52,13 @@ def to_map(points: FloatArray, pose: Pose2D) -> FloatArray:
     return np.asarray(points @ np.array([[c, s], [-s, c]]) + np.array([pose.x, pose.y]), dtype=np.float64)
 
 
+def clouds_in_map(clouds: Sequence[FloatArray], poses: FloatArray, indices: Sequence[int]) -> FloatArray:
+    """The robot-frame point sets ``clouds[k]`` of the nodes ``indices``, each seen from its pose
+    ``poses[k]`` ((N, 3), map frame), stacked (m): a reference for the matcher."""
+    parts = [to_map(clouds[k], Pose2D(*poses[k])) for k in indices]
+    return np.vstack(parts) if parts else np.zeros((0, 2))
+
+
 def scan_points(scan: LaserScan, laser_pose: Pose2D, max_laser_range: float) -> ScanPoints:
     """Classify the beams of ``scan`` and express them in the robot frame.
 
@@ -66,6 +74,15 @@ def scan_points(scan: LaserScan, laser_pose: Pose2D, max_laser_range: float) -> 
     hits = np.column_stack((laser_pose.x + ranges[hit] * cos[hit], laser_pose.y + ranges[hit] * sin[hit]))
     misses = np.column_stack((laser_pose.x + usable * cos[miss], laser_pose.y + usable * sin[miss]))
     return ScanPoints((laser_pose.x, laser_pose.y), hits, misses)
+
+
+# Neighbouring returns closer than this (m) lie on one surface and are joined for the refinement.
+JOIN_GAP = 0.15
+
+
+def joined_returns(hits: FloatArray, refine_resolution: float) -> FloatArray:
+    """The hits of one scan joined into lines for the refinement grid of ``refine_resolution`` (m)."""
+    return densify(hits, 0.5 * refine_resolution, JOIN_GAP)
 
 
 def densify(hits: FloatArray, spacing: float, max_gap: float) -> FloatArray:

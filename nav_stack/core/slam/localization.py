@@ -28,8 +28,8 @@ import numpy as np
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import FloatArray, Pose2D, compose
 from nav_stack.core.slam.correlation import MatchResult
-from nav_stack.core.slam.laser import ScanPoints, densify, scan_points, to_map
-from nav_stack.core.slam.mapper import _JOIN_GAP, GridSlam
+from nav_stack.core.slam.laser import ScanPoints, joined_returns, scan_points, to_map
+from nav_stack.core.slam.mapper import GridSlam
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.serialization import SlamGraph
 from nav_stack.core.slam.shared import IDENTITY, SlamUpdate, check_inputs, due, inverse, match_scan
@@ -82,7 +82,7 @@ class GraphLocalizer(GridSlam):
             self.unmatched_scans += 1
         self._restart, self._last_odom, self._stamp = None, odom_pose, stamp
         self._map_to_odom = compose(pose, inverse(odom_pose))
-        joined = densify(points.hits, 0.5 * p.refine_resolution, _JOIN_GAP)
+        joined = joined_returns(points.hits, p.refine_resolution)
         self._recent.append((to_map(points.hits, pose), to_map(joined, pose)))
         return SlamUpdate(self._map_to_odom, pose, processed=True, response=response)
 

@@ -19,12 +19,59 @@ several offsets and is rejected there rather than trusted to the penalty's tie-b
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from nav_stack.core.geometry import FloatArray
-from nav_stack.core.slam.correlation import MatchResult
+from nav_stack.core.geometry import FloatArray, Pose2D
+from nav_stack.core.slam.correlation import MatchResult, SearchWindow
+from nav_stack.core.slam.laser import ScanPoints, clouds_in_map
 from nav_stack.core.slam.params import SlamParams
+from nav_stack.core.slam.shared import match_scan
+
+
+@dataclass(frozen=True)
+class LoopMatch:
+    """The match of the newest scan against a candidate chain: the matched pose and its covariance
+    (``result``), the chain node nearest to it (``anchor``, the loop edge's other end), and whether
+    it passed ``verified``."""
+
+    anchor: int
+    result: MatchResult
+    accepted: bool
+
+
+def search_loop(
+    poses: FloatArray,
+    adjacency: list[list[int]],
+    scans: Sequence[ScanPoints],
+    joined: Sequence[FloatArray],
+    params: SlamParams,
+    window: SearchWindow,
+) -> LoopMatch | None:
+    """Match the newest node (the last of ``poses``, (N, 3) map frame) against the nearest unlinked
+    chain of older scans, within the graph's uncertainty between them; None when there is no chain
+    or too few points to match. ``scans`` and ``joined`` (laser.joined_returns) are each node's
+    returns; ``window`` is the loop search window whose half extent is replaced by the
+    uncertainty's."""
+    current = len(poses) - 1
+    p = params
+    chains = candidate_chains(
+        poses, adjacency, current, p.loop_search_maximum_distance, p.loop_match_minimum_chain_size
+    )
+    if not chains:
+        return None
+    chain = chains[0]
+    half = search_half_extent(graph_hops(adjacency, current, chain), p)
+    reference = clouds_in_map([scan.hits for scan in scans], poses, chain)
+    fine = clouds_in_map(joined, poses, chain)
+    prior = Pose2D(*poses[current])
+    result = match_scan(p, reference, scans[current].hits, prior, replace(window, half_extent=half), fine)
+    if result is None:
+        return None
+    d = np.hypot(poses[chain, 0] - result.pose.x, poses[chain, 1] - result.pose.y)
+    return LoopMatch(chain[int(np.argmin(d))], result, verified(result, p))
 
 
 def linked_near_nodes(adjacency: list[list[int]], near: np.ndarray, start: int) -> set[int]:

@@ -7,7 +7,7 @@ Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_headi
 2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) and the map
    with the correlative matcher around the prediction, then refine the pose on a finer grid of
    the exact returns of the buffer and of the scans within ``refine_scan_distance``, joined into
-   lines; a weak response keeps the prediction;
+   lines (tracking.py); a weak response keeps the prediction;
 3. add a pose-graph node with a sequential edge, and fold the scan into the log-odds grid;
 4. look for a loop closure against the nearest older, unlinked scan chain, within a window as wide
    as the graph's drift between the chain and the new scan (loop_closure.py); a match with strong
@@ -32,9 +32,9 @@ from nav_stack.core.geometry import FloatArray, Pose2D, compose
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
 from nav_stack.core.slam.correlation import MatchResult, SearchWindow
-from nav_stack.core.slam.laser import ScanPoints, densify, scan_points, to_map
+from nav_stack.core.slam.laser import ScanPoints, clouds_in_map, joined_returns, scan_points
 from nav_stack.core.slam.log_odds import LogOddsGrid
-from nav_stack.core.slam.loop_closure import candidate_chains, graph_hops, search_half_extent, verified
+from nav_stack.core.slam.loop_closure import search_loop
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.pose_graph import Edge, optimize
 from nav_stack.core.slam.rerender import RERENDER_SLICE_NODES, Rerender
@@ -47,16 +47,8 @@ from nav_stack.core.slam.shared import (
     due,
     inverse,
     loop_information,
-    match_scan,
 )
-
-# Below this mean smear the running-buffer match is not trusted and odometry is kept
-# (slam_toolbox's link_match_minimum_response_fine default).
-_MIN_LINK_RESPONSE = 0.1
-# Neighbouring returns closer than this (m) lie on one surface and are joined for the refinement.
-_JOIN_GAP = 0.15
-# At most this many scans near the robot (besides the running buffer) are refined against.
-_MAX_REFINE_NODES = 30
+from nav_stack.core.slam.tracking import match_running_buffer, trusted
 
 
 class GridSlam:
@@ -155,7 +147,7 @@ class GridSlam:
         pose, response = predicted, 0.0
         if p.use_scan_matching:
             result = self._match_running_buffer(points, predicted)
-            if result is not None and result.response >= _MIN_LINK_RESPONSE:
+            if result is not None and trusted(result):
                 pose, response = result.pose, result.response
         update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points)
         if p.do_loop_closing and self._try_loop_closure():
@@ -179,7 +171,7 @@ class GridSlam:
         assert start is not None
         points = scan_points(scan, laser_pose, self.params.max_laser_range)
         result = self._match_running_buffer(points, start)
-        if result is None or result.response < _MIN_LINK_RESPONSE:
+        if result is None or not trusted(result):
             return self._add_node(scan, odom_pose, start, stamp, laser_pose, 0.0, points)
         return self._add_node(scan, odom_pose, result.pose, stamp, laser_pose, result.response, points)
 
@@ -209,7 +201,7 @@ class GridSlam:
             slam._raw.append((scan, laser))
             slam._odom.append(Pose2D(*map(float, graph.odom[k])))
             slam._scans.append(points)
-            slam._dense.append(densify(points.hits, 0.5 * slam.params.refine_resolution, _JOIN_GAP))
+            slam._dense.append(joined_returns(points.hits, slam.params.refine_resolution))
             slam._adjacency.append([])
         for edge in graph.edges:
             slam._edges.append(edge)
@@ -248,7 +240,7 @@ class GridSlam:
         self._odom.append(odom_pose)
         self._raw.append((scan, laser_pose))
         self._scans.append(points)
-        self._dense.append(densify(points.hits, 0.5 * self.params.refine_resolution, _JOIN_GAP))
+        self._dense.append(joined_returns(points.hits, self.params.refine_resolution))
         self._adjacency.append([])
         if index > 0:
             prev = self._poses[index - 1]
@@ -268,35 +260,17 @@ class GridSlam:
         self._adjacency[i].append(j)
         self._adjacency[j].append(i)
 
-    def _hits_in_map(self, indices: list[int]) -> FloatArray:
-        parts = [to_map(self._scans[k].hits, Pose2D(*self._poses[k])) for k in indices]
-        return np.vstack(parts) if parts else np.zeros((0, 2))
-
     def _dense_hits_in_map(self, indices: list[int]) -> FloatArray:
-        """Hits of the scans ``indices`` in the map with neighbouring returns joined (laser.densify):
-        the exact reference of the fine refinement."""
-        parts = [to_map(self._dense[k], Pose2D(*self._poses[k])) for k in indices]
-        return np.vstack(parts) if parts else np.zeros((0, 2))
+        """Joined returns (laser.joined_returns) of the scans ``indices`` in the map: the exact
+        reference of the fine refinement."""
+        return clouds_in_map(self._dense, self._poses, indices)
 
     def _match_running_buffer(self, points: ScanPoints, predicted: Pose2D) -> MatchResult | None:
-        p = self.params
-        recent = range(max(0, len(self._odom) - p.scan_buffer_size), len(self._odom))
-        buffer = [
-            k
-            for k in recent
-            if math.hypot(self._poses[k, 0] - predicted.x, self._poses[k, 1] - predicted.y)
-            <= p.scan_buffer_maximum_scan_distance
-        ]
-        reference = self._hits_in_map(buffer)
-        if p.match_against_map and self._rerender is None:  # a map being re-rendered has stale poses
-            half = p.max_laser_range + self._link_window.half_extent
-            near = self._grid.occupied_points((predicted.x, predicted.y), half, p.occupied_thresh)
-            reference = np.vstack((reference, near))
-        d = np.hypot(self._poses[:, 0] - predicted.x, self._poses[:, 1] - predicted.y)
-        close = np.argsort(d)[:_MAX_REFINE_NODES]
-        close = close[d[close] <= p.refine_scan_distance]
-        fine_reference = self._dense_hits_in_map(sorted(set(close.tolist()) | set(buffer)))
-        return match_scan(self.params, reference, points.hits, predicted, self._link_window, fine_reference)
+        """Match against the running buffer and, unless it is being re-rendered, the map (tracking.py)."""
+        grid = self._grid if self.params.match_against_map and self._rerender is None else None
+        return match_running_buffer(
+            self.params, self._link_window, self._poses, self._scans, self._dense, grid, points, predicted
+        )
 
     def _try_loop_closure(self) -> bool:
         """Match the newest scan against the nearest unlinked chain within the graph's uncertainty;
@@ -306,31 +280,15 @@ class GridSlam:
         current = len(self._odom) - 1
         if current - self._last_closure < p.loop_closure_cooldown_nodes:
             return False
-        chains = candidate_chains(
-            self._poses,
-            self._adjacency,
-            current,
-            p.loop_search_maximum_distance,
-            p.loop_match_minimum_chain_size,
-        )
-        if not chains:
+        found = search_loop(self._poses, self._adjacency, self._scans, self._dense, p, self._loop_window)
+        if found is None or not found.accepted:
+            self.loop_closures_rejected += found is not None
             return False
-        chain = chains[0]
-        prior = Pose2D(*self._poses[current])
-        half = search_half_extent(graph_hops(self._adjacency, current, chain), p)
-        window = replace(self._loop_window, half_extent=half)
-        result = match_scan(self.params,
-            self._hits_in_map(chain), self._scans[current].hits, prior, window, self._dense_hits_in_map(chain)
-        )
-        if result is None or not verified(result, p):
-            self.loop_closures_rejected += result is not None
-            return False
-        d = np.hypot(self._poses[chain, 0] - result.pose.x, self._poses[chain, 1] - result.pose.y)
-        anchor = chain[int(np.argmin(d))]
+        result = found.result
         self._link(
-            anchor,
+            found.anchor,
             current,
-            between(Pose2D(*self._poses[anchor]), result.pose),
+            between(Pose2D(*self._poses[found.anchor]), result.pose),
             loop_information(result.covariance, result.pose.yaw),
         )
         optimized = optimize(

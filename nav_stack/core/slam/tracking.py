@@ -1,0 +1,68 @@
+"""Scan-to-reference tracking: where a new scan is matched when no loop is being closed.
+
+Why a module of its own: the mapper (mapper.py) owns the graph and the map; what it matches each
+processed scan against is a separate decision with its own trade-offs, kept here:
+
+- the search reference is the running buffer (the last ``scan_buffer_size`` scans within
+  ``scan_buffer_maximum_scan_distance``) plus, unless the map is being re-rendered from moved
+  poses, the map's occupied cells within laser range: the buffer alone drifts about 1 % of the
+  distance driven, and the map, averaged over every scan, holds the frame still between closures;
+- the refinement reference is the buffer's and the nearest scans' joined returns (exact points,
+  where the map's cells are quantised and two or three cells thick).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from nav_stack.core.geometry import FloatArray, Pose2D
+from nav_stack.core.slam.correlation import MatchResult, SearchWindow
+from nav_stack.core.slam.laser import ScanPoints, clouds_in_map
+from nav_stack.core.slam.log_odds import LogOddsGrid
+from nav_stack.core.slam.params import SlamParams
+from nav_stack.core.slam.shared import match_scan
+
+# Below this mean smear the running-buffer match is not trusted and odometry is kept
+# (slam_toolbox's link_match_minimum_response_fine default).
+MIN_LINK_RESPONSE = 0.1
+# At most this many scans near the robot (besides the running buffer) are refined against.
+MAX_REFINE_NODES = 30
+
+
+def match_running_buffer(
+    params: SlamParams,
+    window: SearchWindow,
+    poses: FloatArray,
+    scans: Sequence[ScanPoints],
+    joined: Sequence[FloatArray],
+    grid: LogOddsGrid | None,
+    points: ScanPoints,
+    predicted: Pose2D,
+) -> MatchResult | None:
+    """Match ``points`` around ``predicted`` (map frame) against the running buffer, and ``grid``'s
+    occupied cells when given (None while the map is re-rendered: its poses are stale).
+
+    ``poses`` (N, 3) are the graph's nodes, ``scans`` and ``joined`` (laser.joined_returns) their
+    returns, ``window`` the running-buffer search window. None when a side has too few points.
+    """
+    p = params
+    n = len(poses)
+    d = np.hypot(poses[:, 0] - predicted.x, poses[:, 1] - predicted.y)
+    recent = range(max(0, n - p.scan_buffer_size), n)
+    buffer = [k for k in recent if d[k] <= p.scan_buffer_maximum_scan_distance]
+    reference = clouds_in_map([scan.hits for scan in scans], poses, buffer)
+    if grid is not None:
+        half = p.max_laser_range + window.half_extent
+        near = grid.occupied_points((predicted.x, predicted.y), half, p.occupied_thresh)
+        reference = np.vstack((reference, near))
+    close = np.argsort(d)[:MAX_REFINE_NODES]
+    close = close[d[close] <= p.refine_scan_distance]
+    fine_reference = clouds_in_map(joined, poses, sorted(set(close.tolist()) | set(buffer)))
+    return match_scan(p, reference, points.hits, predicted, window, fine_reference)
+
+
+def trusted(result: MatchResult | None) -> bool:
+    """Whether a running-buffer match replaces the odometry prediction."""
+    return result is not None and result.response >= MIN_LINK_RESPONSE
