@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from nav_stack.core.localization import Amcl, AmclParams
 from nav_stack.core.localization.sensor_model import select_beams
 from nav_stack.core.map_io import load_map
@@ -25,6 +25,7 @@ MAP = Path(__file__).resolve().parents[1] / "maps" / "turtlebot3_world.yaml"
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("amcl")
     occupancy = load_map(MAP)
     pose = (-2.0, -0.5, 0.0)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from nav_stack.core.bt import BehaviorTreeFactory, NodeStatus, PortList, StatefulActionNode, input_port
 
 TREES = Path(__file__).resolve().parents[1] / "config" / "trees"
@@ -43,6 +43,7 @@ def make_factory() -> BehaviorTreeFactory:
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("bt")
     factory = make_factory()
     load = bench.time("load default NavigateToPose tree", lambda: factory.create_tree_from_file(TREE),

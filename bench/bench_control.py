@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from bench.worlds import inflate
 from nav_stack.core.control import CostGrid, DWBController, RegulatedPurePursuit, Twist2D
 from nav_stack.core.geometry import Pose2D, headings_along
@@ -21,6 +21,7 @@ from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("control")
     spec = GridSpec(60, 60, 0.05, -1.5, -1.5)
     costs = np.zeros(spec.shape, np.uint8)

@@ -23,7 +23,7 @@ import os
 
 import numpy as np
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from nav_stack.core.costmap import (
     CostmapParams,
     InflationLayer,
@@ -109,6 +109,7 @@ def global_costmap(bench: Benchmark, inflation: Inflate | None, suffix: str = ""
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("costmap")
     local_costmap(bench)
     compiled = global_costmap(bench, None)

@@ -25,7 +25,7 @@ os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 import rclpy
 from rclpy.context import Context
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from tests.helpers.nav_ros_loc_tour import CONVERGED, RECOVERY, TourResult, TourRun
 
 
@@ -40,6 +40,7 @@ def _run(**kwargs: object) -> TourResult:
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("localization")
     note = "sim2d drift, lockstep rtf max, Nav2 defaults, product likelihood, min_ess_ratio 0.5"
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from bench.worlds import random_obstacle_costmap
 from nav_stack.core.map_io import OccupancyMap, load_map, save_map
 
@@ -23,6 +23,7 @@ SIZE = 2000  # cells per side
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("map_io")
     costs, spec = random_obstacle_costmap(SIZE, seed=2, n_obstacles=1600)
     occupancy = np.where(costs == 254, 100, 0).astype(np.int8)

@@ -28,7 +28,7 @@ import numpy as np
 import numpy.typing as npt
 import yaml
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from bench.worlds import random_obstacle_costmap, turtlebot3_world_costmap, warehouse_costmap
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
@@ -106,6 +106,7 @@ def time_pairs(
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("planning")
     costs, spec, source = turtlebot3_world_costmap()
     print(f"TB3 world: {source}, inflated r 0.22 / 0.70 / csf 3")

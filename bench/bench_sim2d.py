@@ -16,7 +16,7 @@ import statistics
 
 import numpy as np
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from sim2d.core.robot import WAFFLE
 from sim2d.core.simulator import SimParams, Simulator
 from sim2d.core.world import load_world
@@ -91,6 +91,7 @@ def bench_node(bench: Benchmark, listeners: bool, samples: int = 8) -> None:
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("sim2d")
     bench_core(bench)
     bench_node(bench, listeners=False)

@@ -20,7 +20,7 @@ import statistics
 import threading
 import time
 
-from bench.harness import Benchmark
+from bench.harness import Benchmark, parse_cli
 from smacc_py.core import (
     EvStateRequestFinish,
     Orthogonal,
@@ -156,6 +156,7 @@ def _threaded_latency(bench: Benchmark, samples: int = 300) -> None:
 
 
 def main() -> None:
+    parse_cli(__doc__)
     bench = Benchmark("smacc_core")
     ping = SmPingPong(name="SmPingPong")
     ping.start()

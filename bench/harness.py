@@ -20,6 +20,7 @@ Run one benchmark with ``.venv/bin/python -m bench.<module>``; ``--no-record`` p
 
 from __future__ import annotations
 
+import argparse
 import datetime as _dt
 import fcntl
 import os
@@ -146,6 +147,19 @@ class Stats:
         if not samples:
             raise ValueError("no samples")
         return cls(statistics.median(samples), min(samples), max(samples), len(samples))
+
+
+def parse_cli(description: str | None) -> argparse.Namespace:
+    """The command line of a benchmark without options of its own: ``--no-record`` and ``--help``.
+
+    Why: without a parser, ``--help`` (or a mistyped option) ran the whole benchmark on a possibly
+    busy machine and appended its rows to RESULTS.md.
+    """
+    parser = argparse.ArgumentParser(description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--no-record", action="store_true",
+                        help="print only; do not append to bench/RESULTS.md")
+    return parser.parse_args()
 
 
 @dataclass
