@@ -6,18 +6,24 @@ listed in ``planner_plugins`` (``<id>.plugin``: nav2_navfn_planner::NavfnPlanner
 nav2_theta_star_planner::ThetaStarPlanner, knobs under ``<id>.``). A goal names its plugin by
 ``planner_id``; an empty id takes the last ``planner_selector`` message, else the first plugin.
 
-Per goal (a coroutine: it awaits the costmap's first update on the node clock, then plans on the
-executor thread, so plans are serialised and their order is the order the goals arrived):
-poses are brought into the costmap frame through TF (TF_ERROR when that fails, including an
-empty frame_id), the start is the robot pose from TF unless ``use_start``, and the core returns
-the path or a Jazzy error code with ``error_msg``. A NaN or zero-norm orientation is refused with
+Per goal (a coroutine: it awaits the costmap's first update on the node clock): poses are brought
+into the costmap frame through TF (TF_ERROR when that fails, including an empty frame_id), the start
+is the robot pose from TF unless ``use_start``, and the core returns the path or a Jazzy error code
+with ``error_msg``. The search runs on the node's one worker thread (ros_tools.runtime.offload), so
+plans are serialised in the order the goals arrived, and the executor thread goes on serving the
+controller and the cancel requests meanwhile: a cancel stops the search within 2048 expansions
+(Nav2 Jazzy's ``cancel_checker``) and the goal ends CANCELED. In lockstep the simulator is held
+until the plan is back (at most PLAN_HOLD wall s), so a plan takes no sim time, as before, however
+slow the machine. A NaN or zero-norm orientation is refused with
 UNKNOWN and a message. Successful paths are published on ``plan``. ``is_path_valid`` reports path
 poses on inscribed/lethal cells or off the map.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+import threading
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,6 +57,9 @@ from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.selectors import Selector
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
+from ros_tools.runtime.coroutines import until
+from ros_tools.runtime.lockstep import hold_process
+from ros_tools.runtime.offload import Offload
 from ros_tools.runtime.waiting import wait_for
 
 #: plugin type (last part of ``<id>.plugin``) -> (parameter dataclass, planner class)
@@ -60,6 +69,9 @@ PLANNER_TYPES: dict[str, tuple[type, type]] = {
 }
 DEFAULT_PLUGIN = {"GridBased": "nav2_navfn_planner::NavfnPlanner",
                   "ThetaStar": "nav2_theta_star_planner::ThetaStarPlanner"}
+#: wall s the simulator is held for one plan in lockstep (above max_planning_time's 2 s default,
+#: under lockstep.timeout's 10 s)
+PLAN_HOLD = 5.0
 
 
 @dataclass(frozen=True)
@@ -82,6 +94,8 @@ class PlannerServer(NavLifecycleNode):
         self.core: PlannerServerCore | None = None
         self._entities: list[Any] = []
         self._param_callbacks: list[Any] = []
+        self._offload: Offload | None = None
+        self._cancel_flags: dict[bytes, threading.Event] = {}  # goal id -> set once a cancel is accepted
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -102,6 +116,7 @@ class PlannerServer(NavLifecycleNode):
         self._param_callbacks = [self._take_param_updates(*update) for update in updates]
         run_transition(self.costmap_node, "configure")
         self._pub_plan = self.create_publisher(Path, "plan", QoSProfile(depth=1))
+        self._offload = Offload(self, "planner")
         self._selector = Selector(self, "planner_selector")
         self._entities = [
             self._action(ComputePathToPose, "compute_path_to_pose", self._to_pose),
@@ -111,7 +126,7 @@ class PlannerServer(NavLifecycleNode):
 
     def _action(self, action_type: Any, name: str, execute: Any) -> ActionServer:
         return ActionServer(self, action_type, name, execute, goal_callback=self._accept_goal,
-                            cancel_callback=lambda _: CancelResponse.ACCEPT,
+                            cancel_callback=self._on_cancel,
                             result_timeout=round(self.params.action_server_result_timeout))
 
     def activate(self) -> None:
@@ -143,6 +158,11 @@ class PlannerServer(NavLifecycleNode):
         for entity in self._entities:
             entity.destroy() if isinstance(entity, ActionServer) else self.destroy_service(entity)
         self._entities = []
+        for flag in self._cancel_flags.values():  # a search still running stops at its next poll
+            flag.set()
+        if self._offload is not None:
+            self._offload.destroy()
+            self._offload = None
         self._selector.destroy()
         self.destroy_publisher(self._pub_plan)
         run_transition(self.costmap_node, "cleanup")
@@ -150,9 +170,16 @@ class PlannerServer(NavLifecycleNode):
     def _accept_goal(self, goal: Any) -> GoalResponse:
         return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
 
+    def _on_cancel(self, handle: Any) -> CancelResponse:
+        """Accept every cancel, and tell a search in progress for that goal to stop."""
+        flag = self._cancel_flags.get(bytes(handle.goal_id.uuid))
+        if flag is not None:
+            flag.set()
+        return CancelResponse.ACCEPT
+
     # -- planning ----------------------------------------------------------------------------------
     async def _plan(self, start_msg: Any, use_start: bool, goal_msgs: Sequence[Any], planner_id: str,
-              through: bool) -> PlanResult:
+              through: bool, cancelled: threading.Event) -> PlanResult:
         codes: Any = ThroughPosesErrorCode if through else PlanErrorCode
         assert self.core is not None
         planner_id = self._selector.resolve(planner_id, self.params.planner_plugins[0])
@@ -172,10 +199,15 @@ class PlannerServer(NavLifecycleNode):
             goals = [frames.to_frame(g, frame) for g in goal_msgs]
         except FrameError as error:
             return PlanResult(error_code=int(codes.TF_ERROR), error_msg=str(error))
+        assert self._offload is not None
         if through:
-            result = self.core.compute_path_through_poses(start, goals, planner_id, *snap)
+            answer = self._offload.submit(self.core.compute_path_through_poses, start, goals, planner_id,
+                                          *snap, cancelled.is_set)
         else:
-            result = self.core.compute_path_to_pose(start, goals[0], planner_id, *snap)
+            answer = self._offload.submit(self.core.compute_path_to_pose, start, goals[0], planner_id,
+                                          *snap, cancelled.is_set)
+        hold_process(answer.done, PLAN_HOLD, wake=answer)
+        result: PlanResult = await until(answer)
         limit = 1.0 / self.params.expected_planner_frequency
         if result.planning_time > limit:
             self.get_logger().warn(f"planning took {result.planning_time:.3f} s, more than the "
@@ -201,13 +233,27 @@ class PlannerServer(NavLifecycleNode):
 
     async def _to_pose(self, handle: Any) -> ComputePathToPose.Result:
         goal = handle.request
-        result = await self._plan(goal.start, goal.use_start, [goal.goal], goal.planner_id, through=False)
+        with self._cancel_flag(handle) as cancelled:
+            result = await self._plan(goal.start, goal.use_start, [goal.goal], goal.planner_id, False,
+                                      cancelled)
         return self._finish(handle, ComputePathToPose.Result(), result)
 
     async def _through_poses(self, handle: Any) -> ComputePathThroughPoses.Result:
         goal = handle.request
-        result = await self._plan(goal.start, goal.use_start, list(goal.goals), goal.planner_id, through=True)
+        with self._cancel_flag(handle) as cancelled:
+            result = await self._plan(goal.start, goal.use_start, list(goal.goals), goal.planner_id, True,
+                                      cancelled)
         return self._finish(handle, ComputePathThroughPoses.Result(), result)
+
+    @contextlib.contextmanager
+    def _cancel_flag(self, handle: Any) -> Iterator[threading.Event]:
+        """The flag the search of ``handle``'s goal polls, set by :meth:`_on_cancel` (and at cleanup)."""
+        key = bytes(handle.goal_id.uuid)
+        flag = self._cancel_flags[key] = threading.Event()
+        try:
+            yield flag
+        finally:
+            self._cancel_flags.pop(key, None)
 
     def _is_path_valid(self, request: IsPathValid.Request, response: IsPathValid.Response
                        ) -> IsPathValid.Response:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
@@ -9,7 +10,7 @@ import numpy.typing as npt
 
 from nav_stack.core.geometry import FloatArray, Pose2D, headings_along
 from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
-from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
+from nav_stack.core.planning.errors import PlanErrorCode, PlanningCancelled, PlanningError
 from nav_stack.core.planning.grid_search import SearchGraph, open_escape
 
 #: m: how far from the start a robot inside an inscribed band may plan through it to get out.
@@ -18,13 +19,35 @@ ESCAPE_RADIUS = 0.5
 CostArray = npt.NDArray[np.uint8]
 
 
+def never() -> bool:
+    """The cancel checker of a plan nobody can cancel."""
+    return False
+
+
 class GlobalPlanner(Protocol):
     """A planner plugin: poses and the costmap in, an (N, 3) path in the costmap frame out.
 
-    Implementations raise :class:`PlanningError` with a ComputePathToPose code on failure.
+    Implementations raise :class:`PlanningError` with a ComputePathToPose code on failure, and
+    :class:`PlanningCancelled` once ``cancel_checker()`` is true (Nav2 Jazzy's ``cancel_checker``).
     """
 
-    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray: ...
+    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec,
+                    cancel_checker: Callable[[], bool] = never) -> FloatArray: ...
+
+
+def search_stopper(clock: Callable[[], float], max_planning_time: float,
+                   cancel_checker: Callable[[], bool]) -> Callable[[], bool]:
+    """What a search polls every few thousand expansions: raises PlanningCancelled once
+    ``cancel_checker()`` is true, and answers whether ``max_planning_time`` (s on ``clock``) has
+    passed since this call (the search then stops with TIMEOUT)."""
+    deadline = clock() + max_planning_time
+
+    def stop() -> bool:
+        if cancel_checker():
+            raise PlanningCancelled("the goal was cancelled while its plan was searched")
+        return clock() > deadline
+
+    return stop
 
 
 def check_costmap(costs: CostArray, spec: GridSpec) -> None:

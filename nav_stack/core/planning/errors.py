@@ -50,6 +50,10 @@ class ThroughPosesErrorCode(enum.IntEnum):
         return cls.NONE if code == PlanErrorCode.NONE else cls(int(code) + 100)
 
 
+class PlanningCancelled(Exception):  # noqa: N818 - named like nav2_core::PlannerCancelled
+    """The goal being planned for was cancelled: the search stopped where it was, with no path."""
+
+
 class PlanningError(Exception):
     """A planning failure carrying its ComputePathToPose code and a message for humans."""
 
@@ -68,13 +72,15 @@ class PlanResult:
         error_code: ``PlanErrorCode`` or ``ThroughPosesErrorCode`` value (0 = success).
         error_msg: empty on success, otherwise why planning failed.
         planning_time: wall time spent planning (s).
+        cancelled: the goal was cancelled while its plan was searched; no path, no error code.
     """
 
     path: npt.NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
     error_code: int = 0
     error_msg: str = ""
     planning_time: float = 0.0
+    cancelled: bool = False
 
     @property
     def ok(self) -> bool:
-        return self.error_code == 0
+        return self.error_code == 0 and not self.cancelled

@@ -35,6 +35,8 @@ from nav_stack.core.planning.common import (
     check_costmap,
     graph_from_start,
     locate,
+    never,
+    search_stopper,
     tolerance_candidates,
 )
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
@@ -106,7 +108,8 @@ class NavfnPlanner:
             self._cached_costs = costs.copy()
         return self._graph
 
-    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray:
+    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec,
+                    cancel_checker: Callable[[], bool] = never) -> FloatArray:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
@@ -128,7 +131,7 @@ class NavfnPlanner:
                 f"free cell lies within tolerance {self.params.tolerance} m",
             )
         near = equally_near(spec, goal, goal_cell, candidates)
-        deadline = self._clock() + self.params.max_planning_time
+        stop = search_stopper(self._clock, self.params.max_planning_time, cancel_checker)
         try:
             result = self._search(
                 graph,
@@ -136,7 +139,7 @@ class NavfnPlanner:
                 graph.index(*_search_target(spec, start, near)),
                 self.params.use_astar,
                 self.params.max_iterations,
-                lambda: self._clock() > deadline,
+                stop,
             )
         except SearchTimeoutError as exc:
             raise PlanningError(PlanErrorCode.TIMEOUT, str(exc)) from exc

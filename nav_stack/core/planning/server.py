@@ -21,8 +21,14 @@ import numpy as np
 
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
-from nav_stack.core.planning.common import CostArray, GlobalPlanner
-from nav_stack.core.planning.errors import PlanErrorCode, PlanningError, PlanResult, ThroughPosesErrorCode
+from nav_stack.core.planning.common import CostArray, GlobalPlanner, never
+from nav_stack.core.planning.errors import (
+    PlanErrorCode,
+    PlanningCancelled,
+    PlanningError,
+    PlanResult,
+    ThroughPosesErrorCode,
+)
 
 
 def _check_pose(pose: Pose2D, what: str) -> None:
@@ -56,20 +62,25 @@ class PlannerServerCore:
         return self.planners[planner_id]
 
     def compute_path_to_pose(
-        self, start: Pose2D, goal: Pose2D, planner_id: str, costs: CostArray, spec: GridSpec
+        self, start: Pose2D, goal: Pose2D, planner_id: str, costs: CostArray, spec: GridSpec,
+        cancel_checker: Callable[[], bool] = never,
     ) -> PlanResult:
-        """One leg; error codes of ComputePathToPose."""
+        """One leg; error codes of ComputePathToPose. ``cancel_checker`` is polled during the search:
+        once true, the result says ``cancelled`` and carries no path."""
         started = self._clock()
         try:
-            path = self._leg(start, goal, planner_id, costs, spec)
+            path = self._leg(start, goal, planner_id, costs, spec, cancel_checker)
         except PlanningError as err:
             return PlanResult(
                 error_code=int(err.code), error_msg=err.message, planning_time=self._clock() - started
             )
+        except PlanningCancelled as cancelled:
+            return PlanResult(error_msg=str(cancelled), planning_time=self._clock() - started, cancelled=True)
         return PlanResult(path=path, planning_time=self._clock() - started)
 
     def compute_path_through_poses(
-        self, start: Pose2D, goals: Sequence[Pose2D], planner_id: str, costs: CostArray, spec: GridSpec
+        self, start: Pose2D, goals: Sequence[Pose2D], planner_id: str, costs: CostArray, spec: GridSpec,
+        cancel_checker: Callable[[], bool] = never,
     ) -> PlanResult:
         """Legs start→g0→g1…, concatenated without repeating the joints; ComputePathThroughPoses codes."""
         started = self._clock()
@@ -84,7 +95,7 @@ class PlannerServerCore:
         try:
             for i, goal in enumerate(goals):
                 try:
-                    leg = self._leg(leg_start, goal, planner_id, costs, spec)
+                    leg = self._leg(leg_start, goal, planner_id, costs, spec, cancel_checker)
                 except PlanningError as err:
                     raise PlanningError(
                         err.code, f"leg {i} to ({goal.x:.3f}, {goal.y:.3f}): {err.message}"
@@ -97,17 +108,20 @@ class PlannerServerCore:
                 error_msg=err.message,
                 planning_time=self._clock() - started,
             )
+        except PlanningCancelled as cancelled:
+            return PlanResult(error_msg=str(cancelled), planning_time=self._clock() - started, cancelled=True)
         return PlanResult(path=np.vstack(legs), planning_time=self._clock() - started)
 
     def _leg(
-        self, start: Pose2D, goal: Pose2D, planner_id: str, costs: CostArray, spec: GridSpec
+        self, start: Pose2D, goal: Pose2D, planner_id: str, costs: CostArray, spec: GridSpec,
+        cancel_checker: Callable[[], bool],
     ) -> np.ndarray:
         planner = self._planner(planner_id)
         _check_pose(start, "start")
         _check_pose(goal, "goal")
         try:
-            return planner.create_plan(start, goal, costs, spec)
-        except PlanningError:
+            return planner.create_plan(start, goal, costs, spec, cancel_checker)
+        except (PlanningError, PlanningCancelled):
             raise
         except Exception as exc:  # a plugin bug must become UNKNOWN, never kill the server
             raise PlanningError(PlanErrorCode.UNKNOWN, f"{type(exc).__name__}: {exc}") from exc

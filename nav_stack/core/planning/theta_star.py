@@ -30,6 +30,8 @@ from nav_stack.core.planning.common import (
     check_costmap,
     graph_from_start,
     locate,
+    never,
+    search_stopper,
 )
 from nav_stack.core.planning.errors import PlanErrorCode, PlanningError
 from nav_stack.core.planning.grid_search import SearchGraph
@@ -125,7 +127,8 @@ class ThetaStarPlanner:
             theta_star_jit.warm_up()  # compile now, not inside the first plan's max_planning_time
         self._search = search or theta_star_jit.search
 
-    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec) -> FloatArray:
+    def create_plan(self, start: Pose2D, goal: Pose2D, costs: CostArray, spec: GridSpec,
+                    cancel_checker: Callable[[], bool] = never) -> FloatArray:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
@@ -137,9 +140,8 @@ class ThetaStarPlanner:
                 PlanErrorCode.GOAL_OCCUPIED,
                 f"goal cell {goal_cell} has cost {costs[goal_cell[1], goal_cell[0]]}",
             )
-        deadline = self._clock() + self.params.max_planning_time
-        chain = self._search(graph, graph.index(*start_cell), graph.index(*goal_cell), self.params,
-                             lambda: self._clock() > deadline)
+        stop = search_stopper(self._clock, self.params.max_planning_time, cancel_checker)
+        chain = self._search(graph, graph.index(*start_cell), graph.index(*goal_cell), self.params, stop)
         points = cell_centres(spec, [graph.cell(i) for i in chain])
         if len(points) == 1:
             points = np.vstack((points, points))

@@ -37,6 +37,7 @@ from tests.helpers.nav_ros_world import (
     stop_process,
 )
 from tests.helpers.ros import wait_until
+from tests.helpers.stalling_planner import StallingPlanner
 
 pytestmark = pytest.mark.ros
 Codes = ComputePathToPose.Result
@@ -149,6 +150,30 @@ def test_planner_selector_and_through_poses(planner: Any) -> None:
     assert np.hypot(*(xy - (0.0, 2.0)).T).min() < 0.05, "the via point was skipped"
     status, result = get_result(send_goal(through, ComputePathThroughPoses.Goal(goals=[])), 15.0)
     assert result.error_code == ComputePathThroughPoses.Result.NO_VIAPOINTS_GIVEN
+
+
+def test_a_cancel_stops_a_search_in_progress_and_the_node_keeps_serving(planner: Any) -> None:
+    """The search runs on the planner's worker thread: while it runs, the node answers is_path_valid,
+    and a cancel stops it (Nav2 Jazzy's cancel_checker) with the goal CANCELED; the next goal is
+    planned as usual."""
+    probe, server, _, client = planner
+    stalling = StallingPlanner()
+    server.core.planners["Stalling"] = stalling
+    handle = send_goal(client, ComputePathToPose.Goal(goal=goal_pose(2.0, 0.0), planner_id="Stalling"))
+    wait_until(stalling.started.is_set, 15.0, "the stalling search to start")
+    checker = probe.create_client(IsPathValid, "is_path_valid")
+    path = Path()
+    path.header.frame_id = "map"
+    path.poses = [goal_pose(-1.5, -0.5)]
+    answered = checker.call_async(IsPathValid.Request(path=path))
+    wait_until(answered.done, 10.0, "is_path_valid answered during the search")
+    cancel = handle.cancel_goal_async()
+    wait_until(cancel.done, 10.0, "the cancel response")
+    status, result = get_result(handle, 10.0)
+    assert status == GoalStatus.STATUS_CANCELED
+    assert not result.path.poses
+    status, result = plan(client, goal_pose(2.0, 0.0), "GridBased")
+    assert status == GoalStatus.STATUS_SUCCEEDED, result.error_msg
 
 
 def test_is_path_valid_flags_poses_on_obstacles(planner: Any) -> None:

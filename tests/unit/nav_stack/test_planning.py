@@ -238,6 +238,30 @@ def test_server_reports_every_error_code() -> None:
     assert nan_goal.path.shape == (0, 3)
 
 
+@pytest.mark.parametrize("planner_id", ["Dijkstra", "AStar", "ThetaStar"])
+def test_a_cancel_stops_the_search_where_it_is(planner_id: str) -> None:
+    """Nav2 Jazzy's cancel_checker: polled while the search runs (every 2048 expansions), it ends the
+    plan with no path and no error code; a plan nobody cancels is unchanged."""
+    spec = GridSpec(400, 400, RES)
+    costs = np.zeros(spec.shape, np.uint8)
+    costs[50:350, 200] = LETHAL_OBSTACLE  # a wall to go round: many expansions for each search
+    server = PlannerServerCore({
+        "Dijkstra": NavfnPlanner(NavfnParams(use_astar=False, tolerance=0.0)),
+        "AStar": NavfnPlanner(NavfnParams(use_astar=True, tolerance=0.0)),
+        "ThetaStar": ThetaStarPlanner(),
+    })
+    start, goal = centre(spec, 20, 200), centre(spec, 380, 200)
+    polls = itertools.count()
+    result = server.compute_path_to_pose(start, goal, planner_id, costs, spec,
+                                         cancel_checker=lambda: next(polls) >= 2)
+    assert result.cancelled and not result.ok and result.error_code == 0
+    assert result.path.shape == (0, 3) and "cancelled" in result.error_msg
+    through = server.compute_path_through_poses(start, [goal], planner_id, costs, spec,
+                                                cancel_checker=lambda: True)
+    assert through.cancelled and through.path.shape == (0, 3)
+    assert server.compute_path_to_pose(start, goal, planner_id, costs, spec).ok
+
+
 def test_through_poses_concatenates_legs_and_maps_codes() -> None:
     spec = GridSpec(40, 40, RES)
     costs = np.zeros(spec.shape, np.uint8)
