@@ -146,6 +146,8 @@ def test_cancel_halts_the_tree_and_cancels_the_controller_goal(rig):
 
 
 def test_a_new_goal_preempts_the_running_one(rig):
+    """The tree restarts: the running FollowPath is cancelled, and the next path followed is planned
+    to the new goal (the old one, still followed, could end the new goal at the old place)."""
     rig.fake.hold_follow = True
     client = rig.action_client(NavigateToPose, "navigate_to_pose")
     first = rig.send(client, nav_goal(1.0, 0.0))
@@ -154,8 +156,10 @@ def test_a_new_goal_preempts_the_running_one(rig):
     first_result = rig.result(first)
     assert first_result.status == GoalStatus.STATUS_ABORTED
     assert "preempted" in first_result.result.error_msg
-    rig.wait(lambda: any(g.goal.pose.position.y == 2.0 for g in rig.fake.goals["compute_path_to_pose"]),
-             "a plan to the new goal")
+    rig.wait(lambda: rig.fake.cancels.get("follow_path", 0) >= 1, "the old follow_path cancelled")
+    rig.wait(lambda: rig.fake.count("follow_path") >= 2, "a follow_path goal for the new goal")
+    end = rig.fake.goals["follow_path"][1].path.poses[-1].pose.position
+    assert (end.x, end.y) == (-1.0, 2.0)
     rig.fake.hold_follow = False
     assert rig.result(second).status == GoalStatus.STATUS_SUCCEEDED
 
