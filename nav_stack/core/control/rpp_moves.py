@@ -97,7 +97,8 @@ class RPPMoves:
         checkers keep it met). Seen at the seed's location3, 0.408 m from a pillar's centre: a turn
         on the spot passes the waffle's rear corner within 2 cm of the pillar, less than a cell,
         while an arc of FINAL_ARC_RADIUS passes it by 6 cm or more. None when both arcs are blocked:
-        the caller then turns on the spot after all, as before this check existed. Refusing ended the
+        the caller then steps clear (:meth:`step_clear`, at most STEP_CLEAR_DISTANCE) and, failing
+        that, turns on the spot after all, as before this check existed. Refusing ended the
         navigation with 104 (CI: the seed tree's patrol failed at location3), while the turn, judged
         by cells that make a 2 cm clearance look blocked, succeeds in most such runs."""
         speed = self.params.min_approach_linear_velocity
