@@ -21,9 +21,8 @@ poses on inscribed/lethal cells or off the map.
 
 from __future__ import annotations
 
-import contextlib
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,7 +30,7 @@ import numpy as np
 from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
-from rclpy.action import CancelResponse, GoalResponse
+from rclpy.action import GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
@@ -59,7 +58,7 @@ from nav_stack.ros.selectors import Selector
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.coroutines import until
 from ros_tools.runtime.lockstep import hold_process
-from ros_tools.runtime.offload import Offload
+from ros_tools.runtime.offload import CancelFlags, Offload
 from ros_tools.runtime.waiting import wait_for
 
 #: plugin type (last part of ``<id>.plugin``) -> (parameter dataclass, planner class)
@@ -95,7 +94,7 @@ class PlannerServer(NavLifecycleNode):
         self._entities: list[Any] = []
         self._param_callbacks: list[Any] = []
         self._offload: Offload | None = None
-        self._cancel_flags: dict[bytes, threading.Event] = {}  # goal id -> set once a cancel is accepted
+        self._cancels = CancelFlags()  # what a search polls to stop when its goal is cancelled
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -126,7 +125,7 @@ class PlannerServer(NavLifecycleNode):
 
     def _action(self, action_type: Any, name: str, execute: Any) -> ActionServer:
         return ActionServer(self, action_type, name, execute, goal_callback=self._accept_goal,
-                            cancel_callback=self._on_cancel,
+                            cancel_callback=self._cancels.on_cancel,
                             result_timeout=round(self.params.action_server_result_timeout))
 
     def activate(self) -> None:
@@ -158,8 +157,7 @@ class PlannerServer(NavLifecycleNode):
         for entity in self._entities:
             entity.destroy() if isinstance(entity, ActionServer) else self.destroy_service(entity)
         self._entities = []
-        for flag in self._cancel_flags.values():  # a search still running stops at its next poll
-            flag.set()
+        self._cancels.set_all()  # a search still running stops at its next poll
         if self._offload is not None:
             self._offload.destroy()
             self._offload = None
@@ -170,12 +168,6 @@ class PlannerServer(NavLifecycleNode):
     def _accept_goal(self, goal: Any) -> GoalResponse:
         return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
 
-    def _on_cancel(self, handle: Any) -> CancelResponse:
-        """Accept every cancel, and tell a search in progress for that goal to stop."""
-        flag = self._cancel_flags.get(bytes(handle.goal_id.uuid))
-        if flag is not None:
-            flag.set()
-        return CancelResponse.ACCEPT
 
     # -- planning ----------------------------------------------------------------------------------
     async def _plan(self, start_msg: Any, use_start: bool, goal_msgs: Sequence[Any], planner_id: str,
@@ -233,27 +225,17 @@ class PlannerServer(NavLifecycleNode):
 
     async def _to_pose(self, handle: Any) -> ComputePathToPose.Result:
         goal = handle.request
-        with self._cancel_flag(handle) as cancelled:
+        with self._cancels.held(handle) as cancelled:
             result = await self._plan(goal.start, goal.use_start, [goal.goal], goal.planner_id, False,
                                       cancelled)
         return self._finish(handle, ComputePathToPose.Result(), result)
 
     async def _through_poses(self, handle: Any) -> ComputePathThroughPoses.Result:
         goal = handle.request
-        with self._cancel_flag(handle) as cancelled:
+        with self._cancels.held(handle) as cancelled:
             result = await self._plan(goal.start, goal.use_start, list(goal.goals), goal.planner_id, True,
                                       cancelled)
         return self._finish(handle, ComputePathThroughPoses.Result(), result)
-
-    @contextlib.contextmanager
-    def _cancel_flag(self, handle: Any) -> Iterator[threading.Event]:
-        """The flag the search of ``handle``'s goal polls, set by :meth:`_on_cancel` (and at cleanup)."""
-        key = bytes(handle.goal_id.uuid)
-        flag = self._cancel_flags[key] = threading.Event()
-        try:
-            yield flag
-        finally:
-            self._cancel_flags.pop(key, None)
 
     def _is_path_valid(self, request: IsPathValid.Request, response: IsPathValid.Response
                        ) -> IsPathValid.Response:

@@ -10,7 +10,8 @@ the hand-back with ``executor.create_task``, which both executors accept from an
 EventsExecutor supports no guard conditions).
 
 A job must not touch ROS entities; it gets plain data (copies) and returns plain data. A job that
-should stop early polls a flag its owner sets from a callback (a ``threading.Event``).
+should stop early polls a flag its owner sets from a callback (a ``threading.Event``);
+:class:`CancelFlags` keeps one per action goal and sets it when the goal's cancel is accepted.
 """
 
 from __future__ import annotations
@@ -18,9 +19,10 @@ from __future__ import annotations
 import concurrent.futures
 import contextlib
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
+from rclpy.action import CancelResponse
 from rclpy.node import Node
 from rclpy.task import Future
 
@@ -84,3 +86,33 @@ class Offload:
             pending, self._pending = self._pending, []
         for _work, answer in pending:
             answer.set_exception(OffloadClosedError("destroyed before the result was handed back"))
+
+
+class CancelFlags:
+    """One ``threading.Event`` per running action goal, set once a cancel of that goal is accepted:
+    what an offloaded job polls to stop early (a goal handle is not for reading from the worker)."""
+
+    def __init__(self) -> None:
+        self._flags: dict[bytes, threading.Event] = {}
+
+    @contextlib.contextmanager
+    def held(self, handle: Any) -> Iterator[threading.Event]:
+        """The flag of ``handle``'s goal while the ``with`` block runs."""
+        key = bytes(handle.goal_id.uuid)
+        flag = self._flags[key] = threading.Event()
+        try:
+            yield flag
+        finally:
+            self._flags.pop(key, None)
+
+    def on_cancel(self, handle: Any) -> CancelResponse:
+        """An action server's ``cancel_callback``: accept, and set the goal's flag if it has one."""
+        flag = self._flags.get(bytes(handle.goal_id.uuid))
+        if flag is not None:
+            flag.set()
+        return CancelResponse.ACCEPT
+
+    def set_all(self) -> None:
+        """Ask every job still running to stop (the node is cleaning up)."""
+        for flag in list(self._flags.values()):
+            flag.set()
