@@ -168,7 +168,6 @@ class PlannerServer(NavLifecycleNode):
     def _accept_goal(self, goal: Any) -> GoalResponse:
         return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
 
-
     # -- planning ----------------------------------------------------------------------------------
     async def _plan(self, start_msg: Any, use_start: bool, goal_msgs: Sequence[Any], planner_id: str,
               through: bool, cancelled: threading.Event) -> PlanResult:

@@ -95,6 +95,8 @@ class RegulatedPurePursuit:
         if p.stateful and latched:
             return True
         if math.hypot(goal_local[0], goal_local[1]) < p.goal_dist_tol:
+            if not latched:  # another goal: a step made before its predecessor's final turn is over
+                self._turn_step = None
             self._heading_goal = goal_xy
             return True
         return False

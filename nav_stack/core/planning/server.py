@@ -75,7 +75,7 @@ class PlannerServerCore:
                 error_code=int(err.code), error_msg=err.message, planning_time=self._clock() - started
             )
         except PlanningCancelled as cancelled:
-            return PlanResult(error_msg=str(cancelled), planning_time=self._clock() - started, cancelled=True)
+            return self._cancelled(cancelled, started)
         return PlanResult(path=path, planning_time=self._clock() - started)
 
     def compute_path_through_poses(
@@ -109,8 +109,12 @@ class PlannerServerCore:
                 planning_time=self._clock() - started,
             )
         except PlanningCancelled as cancelled:
-            return PlanResult(error_msg=str(cancelled), planning_time=self._clock() - started, cancelled=True)
+            return self._cancelled(cancelled, started)
         return PlanResult(path=np.vstack(legs), planning_time=self._clock() - started)
+
+    def _cancelled(self, cancelled: PlanningCancelled, started: float) -> PlanResult:
+        """The result of a search stopped by its goal's cancel: no path, no error code."""
+        return PlanResult(error_msg=str(cancelled), planning_time=self._clock() - started, cancelled=True)
 
     def _leg(
         self, start: Pose2D, goal: Pose2D, planner_id: str, costs: CostArray, spec: GridSpec,
