@@ -66,8 +66,9 @@ class RegulatedPurePursuit:
         self.moves = RPPMoves(self.params, self.footprint)
         self.last_carrot = np.zeros(2)
         self._heading_goal: tuple[float, float] | None = None  # goal (x, y) whose heading is latched
-        #: a step before the final turn: where it began (m) and its direction (+1 ahead, -1 back)
-        self._turn_step: tuple[float, float, float] | None = None
+        self._turn_way = 0.0  # the final turn's direction once it began: +1 left, -1 right, 0 not yet
+        #: where the final turn will begin (m, world) and its direction, while the robot moves there
+        self._turn_spot: tuple[float, float, float] | None = None
         # a slow command unanswered for half a second is blocked (stall_escape.py)
         self._escape = StallEscape(STEP_CLEAR_DISTANCE, self.params.min_approach_linear_velocity,
                                    round(0.5 * self.params.controller_frequency))
@@ -75,7 +76,7 @@ class RegulatedPurePursuit:
     def reset(self) -> None:
         self.last_carrot = np.zeros(2)
         self._heading_goal = None
-        self._turn_step = None
+        self._turn_way, self._turn_spot = 0.0, None
         self._escape.reset()
 
     def _rotate(self, angle: float, velocity: Twist2D) -> Twist2D:
@@ -95,8 +96,8 @@ class RegulatedPurePursuit:
         if p.stateful and latched:
             return True
         if math.hypot(goal_local[0], goal_local[1]) < p.goal_dist_tol:
-            if not latched:  # another goal: a step made before its predecessor's final turn is over
-                self._turn_step = None
+            if not latched:  # another goal: forget the last one's final turn
+                self._turn_way, self._turn_spot = 0.0, None
             self._heading_goal = goal_xy
             return True
         return False
@@ -139,40 +140,47 @@ class RegulatedPurePursuit:
             if not p.use_collision_detection:
                 return cmd
             if self._rotating_to_goal_heading(path[-1], local[-1]):  # checked to its end, not for 1 s
-                if not self.moves.turn_blocked(robot, float(local[-1, 2]), grid):
-                    self._turn_step = None
-                    return cmd
-                creep = None if self._turn_step else self.moves.creep_to_goal(
-                    robot, local[-1], grid, 0.5 * grid.spec.resolution)  # a step under way is not undone
-                if creep is not None:
-                    return creep
-                arc = self.moves.arc_onto_heading(robot, float(local[-1, 2]), grid)
-                if arc is not None:
-                    return arc
-                step = self._step_before_turning(robot, grid)
-                return step if step is not None else cmd  # every escape blocked: turn on the spot after all
+                return self._final_turn(robot, velocity, local[-1], grid, cmd)
             if not self.moves.collision_ahead(robot, cmd, reach, grid, path[-1]):
                 return cmd
             if lookahead <= closest:
                 return self._align_with(carrot, robot, velocity, grid, float(np.hypot(*local[0, :2])))
             lookahead = max(0.5 * lookahead, closest)  # a closer carrot: an arc nearer the (free) path
 
-    def _step_before_turning(self, robot: Pose2D, grid: CostGrid) -> Twist2D | None:
-        """The turn onto the goal heading and both arcs are blocked: step straight out, ahead else back
-        (:meth:`RPPMoves.step_clear`), checking the turn again each cycle, for at most
-        STEP_CLEAR_DISTANCE from where this began; None past that, or when no step is free. Turning on
-        the spot regardless swung the waffle's corner into the pillar beside location3 (the battery
-        patrol scenario: a collision in 4 of 12 looped runs). The step keeps the direction it took
-        first, and no creep toward the goal undoes it meanwhile (either made the two alternate)."""
-        if self._turn_step is None:
-            step = self.moves.step_clear(robot, grid)
-            if step is not None:
-                self._turn_step = (robot.x, robot.y, math.copysign(1.0, step.vx))
-            return step
-        x0, y0, direction = self._turn_step
-        if math.hypot(robot.x - x0, robot.y - y0) >= STEP_CLEAR_DISTANCE:
-            return None
-        return self.moves.step_clear(robot, grid, (direction,))
+    def _final_turn(self, robot: Pose2D, velocity: Twist2D, goal: FloatArray, grid: CostGrid,
+                    cmd: Twist2D) -> Twist2D:
+        """The command onto the goal heading (``goal``: the path's end in the robot frame): the turn on
+        the spot that :meth:`RPPMoves.final_turn` picks (the short way, or the long way round, maybe
+        after a straight step to where it is free), checked to its end when it begins and then
+        finished the same way round; where every such turn collides, a creep on to the goal point or
+        an arc onto the heading (rpp_moves.py). With all of those blocked, ``cmd`` after all:
+        refusing ended the navigation with 104, and the stall escape steps out if the body meets the
+        obstacle. Why commit to a checked move: a body already touching lethal cells is judged
+        against its own depth (``motion_collides``), so the same turn or step, re-judged from each
+        new pose, flipped between free and blocked, and the robot dithered on the spot."""
+        angle = float(goal[2])
+        if self._turn_spot is not None:
+            x, y, way = self._turn_spot
+            ahead = (x - robot.x) * math.cos(robot.yaw) + (y - robot.y) * math.sin(robot.yaw)
+            speed = self.params.min_approach_linear_velocity
+            if abs(ahead) > 0.5 * speed / self.params.controller_frequency:
+                return Twist2D(math.copysign(speed, ahead), 0.0)
+            self._turn_spot, self._turn_way = None, way
+        if self._turn_way:
+            if angle * self._turn_way < 0.0 and abs(angle) > ALIGNED:
+                angle += math.copysign(2.0 * math.pi, self._turn_way)
+            return self._rotate(angle, velocity)
+        plan = self.moves.final_turn(robot, angle, grid)
+        if plan is not None:
+            step, turn = plan
+            self._turn_spot = (robot.x + step * math.cos(robot.yaw), robot.y + step * math.sin(robot.yaw),
+                               math.copysign(1.0, turn))
+            return self._final_turn(robot, velocity, goal, grid, cmd)
+        creep = self.moves.creep_to_goal(robot, goal, grid, 0.5 * grid.spec.resolution)
+        if creep is not None:
+            return creep
+        arc = self.moves.arc_onto_heading(robot, angle, grid)
+        return arc if arc is not None else cmd
 
     def _align_with(self, carrot: FloatArray, robot: Pose2D, velocity: Twist2D, grid: CostGrid,
                     offset: float) -> Twist2D:

@@ -239,11 +239,13 @@ def test_stateless_rpp_drives_back_toward_the_goal_point_as_nav2_jazzy_does() ->
 
 def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopped() -> None:
     """0.2 m short of the goal a turn on the spot would swing the body into an obstacle (simulated
-    here: every turn on the spot collides, every arc is free): creep on toward the goal point,
-    slowly; at the goal point itself, with the turn still blocked, turn along a tight arc ahead, else
-    behind; with both arcs blocked too, turn on the spot after all (refusing ended the navigation)."""
+    here: every turn on the spot collides, after any step, and every arc is free): creep on toward
+    the goal point, slowly; at the goal point itself, with the turn still blocked, turn along a tight
+    arc ahead, else behind; with both arcs blocked too, turn on the spot after all (refusing ended
+    the navigation)."""
     rpp, grid, path = _rpp_near_goal(stateful=True)
     rpp.params = RPPParams(stateful=True)  # collision detection on
+    rpp.moves.final_turn = lambda *args: None  # type: ignore[method-assign]
     rpp.moves.collision_ahead = lambda robot, cmd, *args: cmd.vx == 0.0  # type: ignore[method-assign]
     creep = rpp.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), path, grid)
     assert creep.vx == pytest.approx(rpp.params.min_approach_linear_velocity) and abs(creep.wz) < 1e-9
