@@ -47,6 +47,8 @@ STEP_CLEAR_DISTANCE, STEP_CLEAR_MAX_OFFSET = 0.10, 0.15
 FINAL_ARC_RADIUS = 0.15
 #: m between the steps RPPMoves.final_turn tries before the final turn
 TURNING_SPOT_STEP = 0.01
+#: m: how far along its axis RPPMoves.final_turn looks for a spot to turn from
+TURNING_SPOT_REACH = 0.20
 #: cells: the depths into lethal cells in which RPPMoves.final_turn compares its motions (a tenth
 #: of a cell, 5 mm, where motion_collides allows half a cell)
 FINAL_TURN_DEPTHS = tuple(0.1 * k for k in range(21))
@@ -85,32 +87,37 @@ class RPPMoves:
 
     def final_turn(self, robot: Pose2D, angle: float, grid: CostGrid) -> tuple[float, float] | None:
         """How to turn on the spot onto the heading ``angle`` (rad, robot frame, the short way):
-        (step, turn), a straight step (m, + = ahead, within STEP_CLEAR_DISTANCE in steps of
+        (step, turn), a straight step (m, + = ahead, within TURNING_SPOT_REACH in steps of
         TURNING_SPOT_STEP, 0 first) and then the turn (rad, + = left: the short way, else the long
-        way round, which swings the body through the other side of the robot). None when every such
-        motion collides (``motion_collides``, the step and the turn judged as one motion from where
-        the robot stands). The nearest motion that keeps the body outline off lethal cells wins;
-        without one, the motion whose outline goes least deep into them (the outline inset by the
-        fewest FINAL_TURN_DEPTHS that stays clear all along), then the shortest step.
+        way round, which swings the body through the other side of the robot). None when every
+        such motion collides (``motion_collides``, the step and the turn judged as one motion from
+        where the robot stands). The nearest motion that keeps the body outline off lethal cells
+        wins; without one, the motion whose outline goes least deep into them (the outline inset
+        by the fewest FINAL_TURN_DEPTHS that stays clear all along), then the shortest step.
 
         Why: the cells draw an obstacle a few centimetres off, so a body already against the pillar
         beside location3 may move as deep as it is. Turning there, or stepping a fixed way and then
         turning regardless, met the real pillar; a step after which the turn goes shallower did not.
-        Cost: one check where the short turn is clear; up to 66 ms with every motion in contact."""
+        Cost: one check where the short turn is clear; up to about 100 ms with every motion in
+        contact (once per goal: the robot then carries the motion out)."""
         long_way = angle - math.copysign(2.0 * math.pi, angle)
-        best: tuple[tuple[float, float], tuple[float, float]] | None = None
-        for k in range(round(STEP_CLEAR_DISTANCE / TURNING_SPOT_STEP) + 1):
+        free: list[tuple[float, float, tuple[FloatArray, FloatArray, FloatArray]]] = []
+        for k in range(round(TURNING_SPOT_REACH / TURNING_SPOT_STEP) + 1):
             steps = (k * TURNING_SPOT_STEP, -k * TURNING_SPOT_STEP) if k else (0.0,)
             for step, turn in itertools.product(steps, (angle, long_way)):
-                x, y, yaw = self._step_then_turn(robot, step, turn, grid.spec.resolution)
-                if motion_collides(self.footprint, grid, x, y, yaw):
+                poses = self._step_then_turn(robot, step, turn, grid.spec.resolution)
+                if motion_collides(self.footprint, grid, *poses):
                     continue
-                depth = body_depth(self.footprint, grid, x, y, yaw, FINAL_TURN_DEPTHS)
-                if depth == 0.0:
+                if body_depth(self.footprint, grid, *poses, levels=(0.0,)) == 0.0:
                     return step, turn  # the nearest motion that keeps the body off lethal cells
-                if best is None or (depth, k) < best[0]:
-                    best = (depth, k), (step, turn)
-        return None if best is None else best[1]
+                free.append((step, turn, poses))
+        if not free:
+            return None
+        def depth(motion: tuple[float, float, tuple[FloatArray, FloatArray, FloatArray]]) -> float:
+            return body_depth(self.footprint, grid, *motion[2], levels=FINAL_TURN_DEPTHS)
+
+        step, turn, _ = min(free, key=depth)  # the first (the shortest step) of the least deep
+        return step, turn
 
     @staticmethod
     def _step_then_turn(robot: Pose2D, step: float, turn: float,
