@@ -48,7 +48,7 @@ from nav_stack.core.slam.shared import (
     inverse,
     loop_information,
 )
-from nav_stack.core.slam.tracking import match_running_buffer, trusted
+from nav_stack.core.slam.tracking import match_running_buffer, tracked_pose, trusted
 
 
 class GridSlam:
@@ -148,7 +148,7 @@ class GridSlam:
         if p.use_scan_matching:
             result = self._match_running_buffer(points, predicted)
             if result is not None and trusted(result):
-                pose, response = result.pose, result.response
+                pose, response = tracked_pose(result, predicted).pose, result.response
         update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points)
         if p.do_loop_closing and self._try_loop_closure():
             latest = self._poses[-1]
