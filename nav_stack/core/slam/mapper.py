@@ -48,7 +48,7 @@ from nav_stack.core.slam.shared import (
     inverse,
     loop_information,
 )
-from nav_stack.core.slam.tracking import match_running_buffer, tracked_pose, trusted
+from nav_stack.core.slam.tracking import link_information, match_running_buffer, tracked_pose, trusted
 
 
 class GridSlam:
@@ -144,12 +144,13 @@ class GridSlam:
         if not due(p, self._odom[-1], odom_pose, stamp - self._stamp):
             return SlamUpdate(self._map_to_odom, predicted, processed=False)
         points = scan_points(scan, laser_pose, p.max_laser_range)
-        pose, response = predicted, 0.0
+        pose, response, information = predicted, 0.0, None
         if p.use_scan_matching:
             result = self._match_running_buffer(points, predicted)
             if result is not None and trusted(result):
                 pose, response = tracked_pose(result, predicted).pose, result.response
-        update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points)
+                information = link_information(p, result.covariance, pose.yaw)
+        update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points, information)
         if p.do_loop_closing and self._try_loop_closure():
             latest = self._poses[-1]
             pose = Pose2D(float(latest[0]), float(latest[1]), float(latest[2]))
@@ -232,6 +233,7 @@ class GridSlam:
         laser_pose: Pose2D,
         response: float,
         points: ScanPoints | None = None,
+        information: FloatArray | None = None,
     ) -> SlamUpdate:
         if points is None:
             points = scan_points(scan, laser_pose, self.params.max_laser_range)
@@ -245,18 +247,20 @@ class GridSlam:
         if index > 0:
             prev = self._poses[index - 1]
             z = between(Pose2D(*prev), pose)
-            self._link(index - 1, index, z)
+            self._link(index - 1, index, z, information)
         self._stamp = stamp
         self._map_to_odom = compose(pose, inverse(odom_pose))
         if self._rerender is None:  # else the re-render folds this node in
             self._grid.integrate(*points.in_map(pose))
         return SlamUpdate(self._map_to_odom, pose, processed=True, response=response)
 
-    def _link(self, i: int, j: int, z: Pose2D, information: FloatArray | None = None) -> None:
-        """Add edge i → j; sequential links get the fixed link information, loop edges their own (robust)."""
-        loop = information is not None
+    def _link(
+        self, i: int, j: int, z: Pose2D, information: FloatArray | None = None, robust: bool = False
+    ) -> None:
+        """Add edge i → j with ``information`` (default: the fixed link information); loop edges are
+        ``robust`` (Cauchy kernel)."""
         info = self._information if information is None else information
-        self._edges.append(Edge(i, j, (z.x, z.y, z.yaw), info, robust=loop))
+        self._edges.append(Edge(i, j, (z.x, z.y, z.yaw), info, robust=robust))
         self._adjacency[i].append(j)
         self._adjacency[j].append(i)
 
@@ -290,6 +294,7 @@ class GridSlam:
             current,
             between(Pose2D(*self._poses[found.anchor]), result.pose),
             loop_information(result.covariance, result.pose.yaw),
+            robust=True,
         )
         optimized = optimize(
             self._poses, self._edges, p.optimizer_max_iterations, kernel_width=p.loop_robust_kernel_width

@@ -26,7 +26,7 @@ from nav_stack.core.slam.correlation import MatchResult, SearchWindow
 from nav_stack.core.slam.laser import ScanPoints, clouds_in_map
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.params import SlamParams
-from nav_stack.core.slam.shared import match_scan
+from nav_stack.core.slam.shared import loop_information, match_scan
 
 # Below this mean smear the running-buffer match is not trusted and odometry is kept
 # (slam_toolbox's link_match_minimum_response_fine default).
@@ -104,3 +104,20 @@ def tracked_pose(result: MatchResult, predicted: Pose2D) -> MatchResult:
     kept = constrained @ (constrained.T @ delta)
     pose = Pose2D(predicted.x + float(kept[0]), predicted.y + float(kept[1]), result.pose.yaw)
     return replace(result, pose=pose)
+
+
+def link_information(params: SlamParams, covariance: FloatArray, yaw: float) -> FloatArray:
+    """Information (3 × 3, in the new node's frame at ``yaw``, rad) of a sequential edge whose end
+    was placed by a running-buffer match of position ``covariance`` (m², map frame).
+
+    Why not the fixed ``link_stddev_xy`` in every direction: along a degenerate direction the edge
+    carries odometry (tracked_pose), not a match, and is as uncertain as the spread of the match
+    says. Weighted so, a loop closure's correction goes mostly into the corridors' lengths, where
+    the drift is, instead of being spread evenly over well-matched directions. Each positional
+    variance is floored at ``link_stddev_xy``²; the yaw keeps ``link_stddev_yaw``.
+    """
+    variances, vectors = np.linalg.eigh(covariance[:2, :2])
+    link = np.zeros((3, 3))
+    link[:2, :2] = vectors @ np.diag(np.maximum(variances, params.link_stddev_xy**2)) @ vectors.T
+    link[2, 2] = params.link_stddev_yaw**2
+    return loop_information(link, yaw)
