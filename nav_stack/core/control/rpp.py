@@ -69,6 +69,7 @@ class RegulatedPurePursuit:
         self._turn_way = 0.0  # the final turn's direction once it began: +1 left, -1 right, 0 not yet
         #: where the final turn will begin (m, world) and its direction, while the robot moves there
         self._turn_spot: tuple[float, float, float] | None = None
+        self._turn_clean = False  # whether that turn keeps the body off lethal cells: re-checked
         # a slow command unanswered for half a second is blocked (stall_escape.py)
         self._escape = StallEscape(STEP_CLEAR_DISTANCE, self.params.min_approach_linear_velocity,
                                    round(0.5 * self.params.controller_frequency))
@@ -152,12 +153,14 @@ class RegulatedPurePursuit:
         """The command onto the goal heading (``goal``: the path's end in the robot frame): the turn on
         the spot that :meth:`RPPMoves.final_turn` picks (the short way, or the long way round, maybe
         after a straight step to where it is free), checked to its end when it begins and then
-        finished the same way round; where every such turn collides, a creep on to the goal point or
-        an arc onto the heading (rpp_moves.py). With all of those blocked, ``cmd`` after all:
-        refusing ended the navigation with 104, and the stall escape steps out if the body meets the
-        obstacle. Why commit to a checked move: a body already touching lethal cells is judged
-        against its own depth (``motion_collides``), so the same turn or step, re-judged from each
-        new pose, flipped between free and blocked, and the robot dithered on the spot."""
+        finished the same way round (one that kept the body off lethal cells is checked again each
+        cycle, so that cells a new scan adds can stop it); where every such turn collides, a creep
+        on to the goal point or an arc onto the heading (rpp_moves.py). With all of those blocked,
+        ``cmd`` after all: refusing ended the navigation with 104, and the stall escape steps out if
+        the body meets the obstacle. Why commit to a checked move: a body already touching lethal
+        cells is judged against its own depth (``motion_collides``), so the same turn or step,
+        re-judged from each new pose, flipped between free and blocked, and the robot dithered on
+        the spot."""
         angle = float(goal[2])
         if self._turn_spot is not None:
             x, y, way = self._turn_spot
@@ -167,12 +170,15 @@ class RegulatedPurePursuit:
                 return Twist2D(math.copysign(speed, ahead), 0.0)
             self._turn_spot, self._turn_way = None, way
         if self._turn_way:
+            turn = angle
             if angle * self._turn_way < 0.0 and abs(angle) > ALIGNED:
-                angle += math.copysign(2.0 * math.pi, self._turn_way)
-            return self._rotate(angle, velocity)
+                turn += math.copysign(2.0 * math.pi, self._turn_way)
+            if not self._turn_clean or self.moves.turn_clean(robot, turn, grid):
+                return self._rotate(turn, velocity)
+            self._turn_way = 0.0  # the cells changed under a clean turn (a new scan): choose again
         plan = self.moves.final_turn(robot, angle, grid)
         if plan is not None:
-            step, turn = plan
+            step, turn, self._turn_clean = plan
             self._turn_spot = (robot.x + step * math.cos(robot.yaw), robot.y + step * math.sin(robot.yaw),
                                math.copysign(1.0, turn))
             return self._final_turn(robot, velocity, goal, grid, cmd)

@@ -85,15 +85,16 @@ class RPPMoves:
         keep[0] = True
         return motion_collides(self.footprint, grid, x[keep], y[keep], yaw[keep])
 
-    def final_turn(self, robot: Pose2D, angle: float, grid: CostGrid) -> tuple[float, float] | None:
+    def final_turn(self, robot: Pose2D, angle: float, grid: CostGrid) -> tuple[float, float, bool] | None:
         """How to turn on the spot onto the heading ``angle`` (rad, robot frame, the short way):
-        (step, turn), a straight step (m, + = ahead, within TURNING_SPOT_REACH in steps of
+        (step, turn, clean), a straight step (m, + = ahead, within TURNING_SPOT_REACH in steps of
         TURNING_SPOT_STEP, 0 first) and then the turn (rad, + = left: the short way, else the long
         way round, which swings the body through the other side of the robot). None when every
         such motion collides (``motion_collides``, the step and the turn judged as one motion from
         where the robot stands). The nearest motion that keeps the body outline off lethal cells
-        wins; without one, the motion whose outline goes least deep into them (the outline inset
-        by the fewest FINAL_TURN_DEPTHS that stays clear all along), then the shortest step.
+        wins (``clean``); without one, the motion whose outline goes least deep into them (the
+        outline inset by the fewest FINAL_TURN_DEPTHS that stays clear all along), then the
+        shortest step.
 
         Why: the cells draw an obstacle a few centimetres off, so a body already against the pillar
         beside location3 may move as deep as it is. Turning there, or stepping a fixed way and then
@@ -108,16 +109,27 @@ class RPPMoves:
                 poses = self._step_then_turn(robot, step, turn, grid.spec.resolution)
                 if motion_collides(self.footprint, grid, *poses):
                     continue
-                if body_depth(self.footprint, grid, *poses, levels=(0.0,)) == 0.0:
-                    return step, turn  # the nearest motion that keeps the body off lethal cells
+                if self._clean(grid, *poses):
+                    return step, turn, True  # the nearest motion that keeps the body off lethal cells
                 free.append((step, turn, poses))
         if not free:
             return None
+
         def depth(motion: tuple[float, float, tuple[FloatArray, FloatArray, FloatArray]]) -> float:
             return body_depth(self.footprint, grid, *motion[2], levels=FINAL_TURN_DEPTHS)
 
         step, turn, _ = min(free, key=depth)  # the first (the shortest step) of the least deep
-        return step, turn
+        return step, turn, False
+
+    def turn_clean(self, robot: Pose2D, turn: float, grid: CostGrid) -> bool:
+        """Whether turning on the spot by ``turn`` (rad, + = left) keeps the body outline off lethal
+        cells and passes ``motion_collides`` all along."""
+        poses = self._step_then_turn(robot, 0.0, turn, grid.spec.resolution)
+        return not motion_collides(self.footprint, grid, *poses) and self._clean(grid, *poses)
+
+    def _clean(self, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray) -> bool:
+        """Whether the body outline stays off lethal cells at every pose."""
+        return body_depth(self.footprint, grid, x, y, yaw, levels=(0.0,)) == 0.0
 
     @staticmethod
     def _step_then_turn(robot: Pose2D, step: float, turn: float,

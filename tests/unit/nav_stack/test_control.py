@@ -260,6 +260,28 @@ def test_rpp_creeps_on_to_the_goal_when_the_final_turn_is_blocked_where_it_stopp
     assert last_resort.vx == 0.0 and last_resort.wz > 0.0  # every escape blocked: the turn on the spot
 
 
+def test_rpp_stops_a_clean_final_turn_when_a_new_scan_puts_an_obstacle_in_its_sweep() -> None:
+    """A final turn that kept the waffle's box off lethal cells when it began is finished without
+    being judged again from each pose (that made RPP dither), but it is checked again for cells a
+    new scan adds: a cell that appears where the rear corner is about to pass stops the turn the
+    same way round, and RPP chooses again."""
+    spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
+    grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
+    rpp = RegulatedPurePursuit(RPPParams(stateful=True), CircleFootprint(0.22, PolygonFootprint(WAFFLE_BOX)))
+    path = polyline_path([(-0.1, 0.0), (0.0, 0.0)])
+    path[-1, 2] = math.pi / 2
+    here = Pose2D(0.0, 0.0, 0.0)
+    assert rpp.compute_velocity(here, Twist2D(0.0, 0.0), path, grid).wz > 0.0  # left, the short way
+    corner = 0.25 * np.array([math.cos(math.radians(-169.0)), math.sin(math.radians(-169.0))])
+    mx, my = spec.world_to_cell(np.array([corner[0]]), np.array([corner[1]]))
+    costs = grid.costs.copy()
+    costs[my[0], mx[0]] = LETHAL_OBSTACLE  # just beyond the rear-left corner, in its sweep to the left
+    seen = CostGrid(costs, spec)
+    assert rpp.compute_velocity(here, Twist2D(0.0, 0.16), path, grid).wz > 0.0  # committed
+    again = rpp.compute_velocity(here, Twist2D(0.0, 0.32), path, seen)
+    assert not (again.vx == 0.0 and again.wz > 0.0), again
+
+
 def test_rpp_brakes_an_in_place_turn_to_stop_on_its_target() -> None:
     spec = GridSpec(80, 80, 0.05, -2.0, -2.0)
     grid = CostGrid(np.zeros(spec.shape, np.uint8), spec)
