@@ -10,7 +10,6 @@ first commands used to reach sim2d after it had closed (a recording of a robot s
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -24,7 +23,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
 from tests.helpers.bag_replay import BAG_CLI
-from tests.helpers.ros import start_python, stop_process, wait_until
+from tests.helpers.ros import BackgroundSpin, start_python, stop_process, wait_until
 
 #: Sim seconds to record; with --rtf 5 that is under a second of wall time.
 RECORD_SECONDS = 3.0
@@ -61,14 +60,11 @@ def _driver(context: Context) -> Iterator[Node]:
     node.create_subscription(Odometry, "ground_truth", on_truth, 10)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor, "arc driver")
     try:
         yield node
     finally:
-        executor.shutdown()
-        thread.join(timeout=5.0)
-        node.destroy_node()
+        spin.stop(node)
 
 
 def record_sim(out: Path) -> Recording:

@@ -12,6 +12,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -21,6 +22,7 @@ from rclpy.executors import Executor
 from rclpy.node import Node
 
 from ros_tools.runtime.requests import poll
+from ros_tools.runtime.runner import spin_until_shutdown
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -64,17 +66,34 @@ def wait_until(predicate: Callable[[], bool], timeout: float, what: str = "condi
         raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
 
 
-def stop_spinning(executor: Executor, thread: Any, *nodes: Any) -> None:
-    """Stop an executor spinning in ``thread``, wait for the thread, then destroy ``nodes``.
+class BackgroundSpin:
+    """An executor spinning in a daemon thread until :meth:`stop`.
 
-    Why this order: a node destroyed while the thread still builds its wait set makes rclpy raise
-    InvalidHandle ("cannot use Destroyable") in that thread (seen in CI as an unhandled thread
-    exception at a system test's teardown).
+    Why not ``Thread(target=executor.spin)``: stopping that means calling ``executor.shutdown()``
+    from another thread while ``spin`` runs, and rclpy's shutdown races the spin loop (seen in CI
+    as an unhandled AttributeError on the executor's guard condition in the spin thread at a system
+    test's teardown). Here the thread spins in slices (``spin_until_shutdown``) and leaves between
+    two of them when told, so the executor is shut down only once no thread uses it.
     """
-    executor.shutdown()
-    thread.join(timeout=5.0)
-    for node in nodes:
-        node.destroy_node()
+
+    def __init__(self, executor: Executor, name: str = "test") -> None:
+        self.executor = executor
+        self._stopping = threading.Event()
+        self.thread = threading.Thread(target=spin_until_shutdown, name=f"spin {name}", daemon=True,
+                                       args=(executor, name, self._stopping.is_set))
+        self.thread.start()
+
+    def stop(self, *nodes: Any) -> None:
+        """Stop spinning, wait for the thread, shut the executor down, then destroy ``nodes``.
+
+        Why this order: a node destroyed while the thread still builds its wait set makes rclpy raise
+        InvalidHandle ("cannot use Destroyable") in that thread.
+        """
+        self._stopping.set()
+        self.thread.join(timeout=5.0)
+        self.executor.shutdown()
+        for node in nodes:
+            node.destroy_node()
 
 
 def connected(endpoints: Iterable[Any]) -> Callable[[], bool]:

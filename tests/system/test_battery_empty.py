@@ -9,7 +9,6 @@ instead of minutes of spins and back-ups.
 
 from __future__ import annotations
 
-import threading
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +27,7 @@ from nav_stack.ros.conversions import pose_stamped
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import stop_spinning
+from tests.helpers.ros import BackgroundSpin
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 PROGRESS_CHECKER_PERIOD = 10.0  # s of sim time: movement_time_allowance in config/nav2_params.yaml
@@ -67,8 +66,7 @@ def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bri
     lockstep = LockstepParticipant(node, "battery_empty_client")
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor)
     try:
         wait(client.server_is_ready, 60.0, "navigate_to_pose")
         wait(lambda: bool(clock) and lockstep.reported_ns > 0, 30.0, "/clock and a first lockstep report")
@@ -95,6 +93,6 @@ def test_an_empty_battery_fails_the_goal_with_its_cause(empty_battery_stack: Bri
         assert took < PROGRESS_CHECKER_PERIOD, f"the goal took {took:.1f} s of sim time to fail"
         assert any("battery empty" in line for line in empty_battery_stack.lines), "no warning from sim2d"
     finally:
-        stop_spinning(executor, thread)  # first: nothing may be destroyed under a spinning thread
+        spin.stop()  # first: nothing may be destroyed under a spinning thread
         lockstep.destroy()
         node.destroy_node()

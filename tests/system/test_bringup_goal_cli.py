@@ -5,14 +5,13 @@ from __future__ import annotations
 
 import re
 import signal
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from nav_stack.ros.goal_cli import load_waypoints
-from tests.helpers.ros import REPO, start_python, stop_process, stop_spinning, wait_until
+from tests.helpers.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 
 def test_example_waypoints_load():
@@ -43,12 +42,11 @@ def navigator(ros_context) -> Iterator[object]:
     node = FakeNavigateToPose(context=ros_context)
     executor = MultiThreadedExecutor(num_threads=4, context=ros_context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor)
     try:
         yield node
     finally:
-        stop_spinning(executor, thread, node)
+        spin.stop(node)
 
 
 @pytest.mark.ros

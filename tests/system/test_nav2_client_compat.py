@@ -9,7 +9,6 @@ BasicNavigator is not on pip, so ``MiniNavigator`` repeats its protocol: waitUnt
 from __future__ import annotations
 
 import math
-import threading
 import time
 from collections.abc import Iterator
 from typing import Any
@@ -39,7 +38,7 @@ from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.requests import call_until_answered, poll
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import REPO, stop_spinning
+from tests.helpers.ros import REPO, BackgroundSpin
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 AMCL_POSE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
@@ -145,13 +144,12 @@ def nav(stack, ros_context) -> Iterator[MiniNavigator]:
     node = Node("basic_navigator", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor)
     try:
         yield MiniNavigator(node)
     finally:
         print(stack.output(200))  # shown by pytest when the test fails
-        stop_spinning(executor, thread, node)
+        spin.stop(node)
 
 
 def test_basic_navigator_session(nav):

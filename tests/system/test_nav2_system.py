@@ -10,7 +10,6 @@ yaml), as in Nav2, so the pillar test first sets the tolerance to 0 over ``param
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -28,7 +27,7 @@ from rclpy.node import Node
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import stop_spinning
+from tests.helpers.ros import BackgroundSpin
 from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
@@ -80,8 +79,7 @@ def client(stack, ros_context) -> Iterator[Client]:
     node = Node("nav2_system_test", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor)
     c = Client(node, ActionClient(node, NavigateToPose, "navigate_to_pose"))
     node.create_subscription(Odometry, "ground_truth", c.truth.append, 10)
     try:
@@ -90,7 +88,7 @@ def client(stack, ros_context) -> Iterator[Client]:
         yield c
     finally:
         print(stack.output(200))  # shown by pytest when the test fails
-        stop_spinning(executor, thread, node)
+        spin.stop(node)
 
 
 def _sim_seconds(duration: Any) -> float:

@@ -25,10 +25,8 @@ Both phases run sim2d in lockstep with the stack's processes at SYSTEM_RTF (``ma
 
 from __future__ import annotations
 
-import contextlib
 import itertools
 import math
-import threading
 from collections import deque
 from pathlib import Path
 from typing import Any
@@ -66,7 +64,7 @@ from tests.helpers.nav_ros_slam_stack import (
     saved_map_specs,
     sim_spec,
 )
-from tests.helpers.ros import SYSTEM_RTF, stop_spinning, wait_until
+from tests.helpers.ros import SYSTEM_RTF, BackgroundSpin, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 #: The processes the simulator waits for in lockstep (their run_nodes roles, and this test's probe).
@@ -105,12 +103,7 @@ class Probe:
         self.tf = TransformListener(self.node)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.node)
-        self._thread = threading.Thread(target=self._spin, daemon=True)
-        self._thread.start()
-
-    def _spin(self) -> None:
-        with contextlib.suppress(Exception):  # the context goes down under the executor at teardown
-            self.executor.spin()
+        self._spin = BackgroundSpin(self.executor, "slam probe")
 
     def _on_truth(self, msg: Odometry) -> None:
         stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
@@ -142,7 +135,7 @@ class Probe:
             self.errors.append(math.hypot(p.x - truth[0], p.y - truth[1]))
 
     def close(self) -> None:
-        stop_spinning(self.executor, self._thread)  # first: nothing may be destroyed under a spinning thread
+        self._spin.stop()  # first: nothing may be destroyed under a spinning thread
         self.lockstep.destroy()
         self.tf.destroy()
         self.node.destroy_node()

@@ -19,7 +19,6 @@ timeout below is a safety net, never a measurement.
 from __future__ import annotations
 
 import math
-import threading
 from typing import Any
 
 import numpy as np
@@ -44,7 +43,7 @@ from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait, yaw_of
-from tests.helpers.ros import REPO, stop_spinning
+from tests.helpers.ros import REPO, BackgroundSpin
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 
@@ -163,8 +162,7 @@ def test_tb4_reaches_five_goals_across_the_depot(tb4_stack: Bringup, ros_context
     tf = TransformListener(node)
     executor = SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor)
     try:
         wait(client.server_is_ready, 60.0, "navigate_to_pose")
         wait(lambda: lockstep.reported_ns > 0 and observer.scan is not None and bool(observer.truths),
@@ -197,7 +195,7 @@ def test_tb4_reaches_five_goals_across_the_depot(tb4_stack: Bringup, ros_context
         wait(lambda: observer.collisions is not None, 10.0, "/sim2d/collision_count")
         assert observer.collisions == 0, f"{observer.collisions} collisions on the tour"
     finally:
-        stop_spinning(executor, thread)  # first: nothing may be destroyed under a spinning thread
+        spin.stop()  # first: nothing may be destroyed under a spinning thread
         lockstep.destroy()
         tf.destroy()
         node.destroy_node()

@@ -20,14 +20,13 @@ import contextlib
 import importlib.util
 import math
 import shutil
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.helpers.ros import REPO, start_python, stop_process, wait_until
+from tests.helpers.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -92,15 +91,11 @@ def spinning(ros_context) -> Iterator[object]:
         executor.add_node(node)
         return node
 
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor, "viewer peers")
     try:
         yield make_node
     finally:
-        executor.shutdown(timeout_sec=5.0)
-        thread.join(timeout=5.0)
-        for node in nodes:
-            node.destroy_node()
+        spin.stop(*nodes)
 
 
 class Page:

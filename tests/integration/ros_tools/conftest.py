@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
-from tests.helpers.ros import start_python, wait_until
+from tests.helpers.ros import BackgroundSpin, start_python, wait_until
 from tests.helpers.ros_cli import CLI
 
 
@@ -79,12 +79,8 @@ def spinning(ros_context) -> Iterator[Callable[[str], object]]:
         executor.add_node(node)
         return node
 
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()  # adding a node later wakes the executor up
+    spin = BackgroundSpin(executor, "cli peers")
     try:
         yield make_node
     finally:
-        executor.shutdown(timeout_sec=5.0)
-        thread.join(timeout=5.0)
-        for node in nodes:
-            node.destroy_node()
+        spin.stop(*nodes)
