@@ -48,6 +48,10 @@ class NodeParams:
         seed: seed of every random stream (lidar noise, odometry drift).
         real_time_factor: sim seconds per wall second; 0 runs as fast as possible.
         enable_stamped_cmd_vel: cmd_vel is TwistStamped instead of Twist (Nav2's knob).
+        stamped_cmd_vel_delay: s of sim time after its stamp that a TwistStamped command takes effect
+            (sim2d/core/command_schedule.py: the same effect at the same sim time on every run);
+            0, or a zero stamp, applies it on arrival, as a Twist always is. In lockstep keep it
+            above ``lockstep.max_lead`` plus one report period, or commands arrive late.
         clock_rate: /clock messages per sim second (Hz); sets the resolution of sim-time timers.
         battery_rate: /battery_state messages per sim second (Hz).
         rtf_log_period: wall seconds between log lines reporting the achieved real-time factor.
@@ -58,6 +62,7 @@ class NodeParams:
     seed: int = 0
     real_time_factor: float = 1.0
     enable_stamped_cmd_vel: bool = False
+    stamped_cmd_vel_delay: float = 0.1
     clock_rate: float = 100.0
     battery_rate: float = 1.0
     rtf_log_period: float = 10.0
@@ -65,6 +70,8 @@ class NodeParams:
     def __post_init__(self) -> None:
         if self.real_time_factor < 0.0:
             raise ValueError(f"real_time_factor: must be > 0 (or 0 = max speed), got {self.real_time_factor}")
+        if self.stamped_cmd_vel_delay < 0.0:
+            raise ValueError(f"stamped_cmd_vel_delay: must be >= 0 s, got {self.stamped_cmd_vel_delay}")
         for name in ("clock_rate", "battery_rate", "rtf_log_period"):
             if getattr(self, name) <= 0.0:
                 raise ValueError(f"{name}: must be > 0, got {getattr(self, name)}")

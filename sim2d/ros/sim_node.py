@@ -18,7 +18,8 @@ In max mode (``real_time_factor`` 0) the stepping timer fires every 1 ms and eac
 after 20 ms of wall time, so cmd_vel and progress callbacks get their turn in between.
 
 ROS surface (names relative to the node namespace unless absolute):
-  sub  cmd_vel (geometry_msgs/Twist, or TwistStamped with enable_stamped_cmd_vel)
+  sub  cmd_vel (geometry_msgs/Twist, or TwistStamped with enable_stamped_cmd_vel; a stamped command
+       takes effect at stamp + stamped_cmd_vel_delay of sim time, sim2d/core/command_schedule.py)
   sub  sim2d/teleport, sim2d/lidar_dropout, sim2d/spawn_obstacle: act on the world (world_inputs.py)
   sub  /lockstep/progress (std_msgs/Header, only with lockstep.enabled)
   pub  /clock, scan (reliable), odom, /tf, /tf_static (transient local), ground_truth (frame map),
@@ -46,6 +47,7 @@ from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
 
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, REPORT_PERIOD
+from sim2d.core.command_schedule import CommandSchedule
 from sim2d.core.lockstep import LockstepGate
 from sim2d.core.robot import robot_model
 from sim2d.core.simulator import Simulator
@@ -94,6 +96,8 @@ class Sim2dNode(Node):
                              cfg.lidar, cfg.odometry, cfg.battery, cfg.collision)
         self.paused = False
         self.achieved_rtf = 0.0
+        self.commands = CommandSchedule(round(cfg.node.stamped_cmd_vel_delay * 1e9))
+        self._late_warned = 0
         self._warned: set[tuple[str, str]] = set()
         self._make_interfaces()
         self._periods = {"clock": _period_ns(cfg.node.clock_rate), "odom": _period_ns(cfg.odometry.rate),
@@ -175,6 +179,8 @@ class Sim2dNode(Node):
         return target
 
     def _step(self) -> None:
+        for command in self.commands.due(self.sim.time_ns):   # stamped commands whose time has come
+            self.sim.command(command.v, command.w)
         self.sim.step()
         self._publish_due()
 
@@ -184,9 +190,6 @@ class Sim2dNode(Node):
 
     def _publish_due(self) -> None:
         now, due, sim = self.sim.time_ns, self._due, self.sim
-        if now >= due["clock"]:
-            self._publish_clock(now)
-            due["clock"] = self._next_due(due["clock"], self._periods["clock"], now)
         if now >= due["odom"]:
             odom = sim.odometry
             self.pub_odom.publish(self._odom.build(now, odom.pose, sim.v, sim.w, odom.variance_trans,
@@ -205,6 +208,11 @@ class Sim2dNode(Node):
             for event in sim.pop_collision_events():
                 self.pub_collision.publish(messages.collision_point(event.time_ns, event.x, event.y))
             self.pub_collision_count.publish(UInt32(data=sim.collision_count))
+        # /clock last: a participant that takes /clock t off its queue has every message stamped up
+        # to t queued before it, so its timers due at t see the same data on every run.
+        if now >= due["clock"]:
+            self._publish_clock(now)
+            due["clock"] = self._next_due(due["clock"], self._periods["clock"], now)
 
     def _warn_if_battery_empty(self, empty: bool) -> None:
         """Say once why the robot stopped obeying cmd_vel; say again after a recharge empties it again."""
@@ -329,8 +337,26 @@ class Sim2dNode(Node):
 
     # ------------------------------------------------------------------ inputs
     def _on_cmd_vel(self, msg: Twist | TwistStamped) -> None:
-        twist = msg.twist if isinstance(msg, TwistStamped) else msg
-        self.sim.command(twist.linear.x, twist.angular.z)
+        if isinstance(msg, Twist):
+            self.sim.command(msg.linear.x, msg.angular.z)
+            return
+        twist, stamp_ns = msg.twist, msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+        if stamp_ns == 0 or self.commands.delay_ns == 0:   # unstamped in all but type: on arrival
+            self.sim.command(twist.linear.x, twist.angular.z)
+            return
+        self.commands.add(stamp_ns, twist.linear.x, twist.angular.z, self.sim.time_ns)
+        if self.commands.late > self._late_warned:
+            self._warn_late()
+
+    def _warn_late(self) -> None:
+        """Say (at most every 100 late commands) that stamped commands arrive after their time."""
+        if self._late_warned and self.commands.late < self._late_warned + 100:
+            return
+        self._late_warned = self.commands.late
+        self.get_logger().warning(
+            f"sim2d: {self.commands.late} stamped cmd_vel arrived after stamp + stamped_cmd_vel_delay "
+            f"({self.config.node.stamped_cmd_vel_delay} s; worst {self.commands.worst_late_ns * 1e-9:.3f} s "
+            "late) and took effect on arrival: runs are not exact repeats; raise the delay")
 
     def _check_cmd_vel_types(self) -> None:
         """Warn once per publisher whose cmd_vel type is not the one this node subscribes to."""
@@ -348,6 +374,7 @@ class Sim2dNode(Node):
 
     def _on_reset(self, request: Empty.Request, response: Empty.Response) -> Empty.Response:
         self.sim.reset()
+        self.commands.clear()
         self.pub_collision_count.publish(UInt32(data=0))
         self.get_logger().info("sim2d: reset to the spawn pose")
         return response
