@@ -23,7 +23,12 @@ class CmdVelPublisher:
         self.frame_id = frame_id
         self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, DEFAULT)
 
-    def publish(self, vx: float, wz: float) -> None:
+    def publish(self, vx: float, wz: float, stamp_ns: int | None = None) -> None:
+        """Publish (vx m/s, wz rad/s); a stamped command carries ``stamp_ns`` (node clock ns), else now.
+
+        A controller passes the nominal time of its cycle: sim2d applies a stamped command at stamp +
+        ``stamped_cmd_vel_delay``, so the stamp, not the arrival, decides when it takes effect.
+        """
         twist = Twist()
         twist.linear.x, twist.angular.z = float(vx), float(wz)
         if not self.stamped:
@@ -31,7 +36,10 @@ class CmdVelPublisher:
             return
         msg = TwistStamped()
         msg.header.frame_id = self.frame_id
-        msg.header.stamp = self._node.get_clock().now().to_msg()
+        if stamp_ns is None:
+            msg.header.stamp = self._node.get_clock().now().to_msg()
+        else:
+            msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
         msg.twist = twist
         self.publisher.publish(msg)
 

@@ -210,8 +210,6 @@ class ControllerServer(NavLifecycleNode):
             for plugin in (controller, checker, progress, self._response):
                 plugin.reset()
         self._current = run
-        if self._active:
-            self._timer.reset()  # the cycle sleeps while no goal runs
         self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
                                + (" (path updated)" if seamless else ""))
         return await run.wait()
@@ -234,11 +232,21 @@ class ControllerServer(NavLifecycleNode):
         return CancelResponse.ACCEPT
 
     # -- the control cycle -------------------------------------------------------------------------
+    def _cycle_time_ns(self) -> int:
+        """The nominal sim time (ns) of the running cycle: its slot on the timer's grid.
+
+        Why not ``now``: under lockstep the clock may have moved on by a /clock message or two when
+        the timer's callback runs, and how far depends on wall timing. The grid is fixed from
+        activation (the timer is never reset), so the cycle times, the stamps of the commands and
+        with them the sim times at which sim2d applies them are the same on every run.
+        """
+        now = self.get_clock().now().nanoseconds
+        return now + self._timer.time_until_next_call() - self._timer.timer_period_ns
+
     def _cycle(self) -> None:
         run = self._current
         if run is None or run.finished:
-            self._current = None
-            self._timer.cancel()  # idle: no wake-ups until the next goal resets it
+            self._current = None   # idle: the timer keeps running so its grid never shifts
             return
         if run.stop_requested:
             if run.handle.is_cancel_requested:
@@ -264,7 +272,8 @@ class ControllerServer(NavLifecycleNode):
     def _control(self, run: _PathRun) -> None:
         snap = self.costmap_node.snapshot()
         frames = self.costmap_node.frames
-        now = self._now()
+        cycle_ns = self._cycle_time_ns()
+        now = cycle_ns * 1e-9
         if run.last_valid == -math.inf:
             run.last_valid = now
         if snap is None or frames is None or not self.costmap_node.current:
@@ -309,7 +318,7 @@ class ControllerServer(NavLifecycleNode):
                           f"no valid command for {tolerance} s: {error.message}")
                 return
         self._response.check(cmd, self._velocity, now)
-        self._cmd.publish(cmd.vx, cmd.wz)
+        self._cmd.publish(cmd.vx, cmd.wz, cycle_ns)
         trajectory = getattr(controller, "last_trajectory", None)
         if trajectory is not None and len(trajectory):
             stamp = self.get_clock().now().to_msg()
