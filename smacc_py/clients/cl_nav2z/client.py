@@ -25,7 +25,7 @@ from typing import Any
 
 from action_msgs.srv import CancelGoal
 from bond.msg import Status
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -54,6 +54,7 @@ ACTION_TYPES: dict[str, Any] = {
 
 #: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
 BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
+STAMPED_PARAMETER = "enable_stamped_cmd_vel"  # the machine's parameter: cmd_vel as TwistStamped
 BOND_DISCOVERY_GRACE_S = 3.0  # wall s lockstep waits for /bond to be matched (under sim2d's 5 s timeout)
 
 
@@ -61,11 +62,16 @@ class ClNav2Z(ISmaccClient):
     """Nav2 client; ``action_names`` may remap any action key to another server name.
 
     It also owns the machine's ``cmd_vel_topic`` publisher (geometry_msgs/Twist, created at startup so it
-    is discovered before a behavior needs it) for the behaviors that command velocities directly.
+    is discovered before a behavior needs it) for the behaviors that command velocities directly. The
+    machine's parameter ``enable_stamped_cmd_vel`` (Nav2 Jazzy's name, default false) makes it a
+    TwistStamped publisher stamped with the machine clock, as the robot (sim2d) then expects; sim2d
+    applies a stamped command at its stamp plus a fixed delay, so its effect does not depend on when
+    it arrived.
     """
 
     def __init__(self, action_names: dict[str, str] | None = None, cmd_vel_topic: str = "/cmd_vel") -> None:
         self.cmd_vel_topic = cmd_vel_topic
+        self.stamped = False  # set from the machine's enable_stamped_cmd_vel in on_initialize
         unknown = set(action_names or {}) - set(ACTION_TYPES)
         if unknown:
             raise ValueError(f"ClNav2Z: unknown action keys {sorted(unknown)}; known: {sorted(ACTION_TYPES)}")
@@ -77,7 +83,11 @@ class ClNav2Z(ISmaccClient):
         self.node = ctx.node
         for key, action_type in ACTION_TYPES.items():
             self._clients[key] = RosActionClient(ctx.node, action_type, self.action_names[key])
-        self._cmd_vel = ctx.node.create_publisher(Twist, self.cmd_vel_topic, 10)
+        if not ctx.node.has_parameter(STAMPED_PARAMETER):
+            ctx.node.declare_parameter(STAMPED_PARAMETER, False)
+        self.stamped = bool(ctx.node.get_parameter(STAMPED_PARAMETER).value)
+        self._cmd_vel = ctx.node.create_publisher(TwistStamped if self.stamped else Twist,
+                                                  self.cmd_vel_topic, 10)
         # Created with the machine, so that it is discovered before CbAbortNavigation needs it.
         self._cancel_every_goal = ctx.node.create_client(CancelGoal, self.cancel_service_name)
 
@@ -90,7 +100,13 @@ class ClNav2Z(ISmaccClient):
         """Command a velocity (m/s, rad/s) on ``cmd_vel_topic``; no arguments means stop."""
         msg = Twist()
         msg.linear.x, msg.angular.z = float(linear_x), float(angular_z)
-        self._cmd_vel.publish(msg)
+        if not self.stamped:
+            self._cmd_vel.publish(msg)
+            return
+        stamped = TwistStamped(twist=msg)
+        stamped.header.frame_id = "base_link"
+        stamped.header.stamp = self.node.get_clock().now().to_msg()
+        self._cmd_vel.publish(stamped)
 
     def action_client(self, key: str) -> RosActionClient:
         """The action client for ``key`` (navigate_to_pose, spin, backup, drive_on_heading, follow_path)."""
