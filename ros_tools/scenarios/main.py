@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import time
 from collections.abc import Sequence
@@ -88,6 +89,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                   f"{len(scenario.events)} event(s)")
         print(f"{len(scenarios)} scenario(s) valid")
         return EXIT_OK
+    # Ctrl-C stops the run even when the shell started this process with SIGINT ignored (a
+    # background job of a non-interactive shell, as CI scripts start their tests): Python then keeps
+    # the inherited SIG_IGN, and the interrupt would go unheard while every scenario ran to the end.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     return run(options, scenarios)
 
 

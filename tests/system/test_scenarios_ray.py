@@ -104,10 +104,14 @@ def test_a_scenario_whose_worker_dies_is_requeued_once_and_says_so(
 @pytest.mark.timeout(120)
 def test_ctrl_c_cancels_the_ray_run_and_stops_its_scenarios(
         cluster: tuple[str, dict[str, str]], tmp_path: Path) -> None:
+    """Started with SIGINT ignored, as a non-interactive shell starts a background job (CI scripts
+    do): the farm must still hear the interrupt. Before it set its own handler, Python kept the
+    inherited SIG_IGN and both scenarios ran to the end (local CI runs CH and CI)."""
     address, env = cluster
     farm = subprocess.Popen([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SELFTEST), *SUBSET,
                              "--out", str(tmp_path), "--ray", address],
-                            cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                            cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     try:
         wait_until(lambda: len(_scenario_processes(env)) >= 2, 60.0, "the scenarios' processes", step=0.5)
         farm.send_signal(signal.SIGINT)
