@@ -317,7 +317,7 @@ class ControllerServer(NavLifecycleNode):
                 self._end(run, Outcome.ABORTED, Code.PATIENCE_EXCEEDED,
                           f"no valid command for {tolerance} s: {error.message}")
                 return
-        self._response.check(cmd, self._velocity, now)
+        self._response.check(cmd, self._velocity, self._now())  # odometry is timed at arrival, by _now
         self._cmd.publish(cmd.vx, cmd.wz, cycle_ns)
         trajectory = getattr(controller, "last_trajectory", None)
         if trajectory is not None and len(trajectory):
