@@ -31,7 +31,6 @@ from nav_stack.core import behaviors
 from nav_stack.core.behaviors import BehaviorParams, BehaviorResult
 from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
 from nav_stack.core.geometry import to_frame
-from nav_stack.ros.cmd_vel import CmdVelPublisher
 from nav_stack.ros.conversions import duration_msg, duration_to_seconds, spec_from_info
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.goal_runs import GoalRun, Outcome
@@ -40,6 +39,7 @@ from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
+from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 
 #: plugin type -> (action type, TF_ERROR code)

@@ -47,7 +47,6 @@ from nav_stack.core.control import (
     Twist2D,
 )
 from nav_stack.core.costmap import CostmapParams
-from nav_stack.ros.cmd_vel import CmdVelPublisher
 from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
 from nav_stack.ros.conversions import path_from_array, path_to_array
 from nav_stack.ros.costmap_params import parse_footprint
@@ -60,6 +59,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from nav_stack.ros.response_monitor import ResponseMonitor
 from nav_stack.ros.selectors import Selector
+from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 
 Code = ControllerErrorCode

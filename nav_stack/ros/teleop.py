@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
     from rclpy.node import Node
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
-    from nav_stack.ros.cmd_vel import CmdVelPublisher
+    from ros_tools.cmd_vel import CmdVelPublisher
     from ros_tools.runtime.executor import make_executor
 
     args_in = list(sys.argv[1:] if argv is None else argv)

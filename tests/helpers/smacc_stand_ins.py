@@ -12,6 +12,7 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from geometry_msgs.msg import Twist
 from std_msgs.msg import UInt16
 
 from smacc_py.clients.cl_keyboard import ClKeyboard
@@ -44,6 +45,18 @@ class RecordingPublisher:
 
     def publish(self, msg: Any) -> None:
         self.messages.append(msg)
+
+
+class BaseCmdVel:
+    """Stands in for ClNav2Z's CmdVelPublisher: hands each (vx, wz) to the fake base as a Twist."""
+
+    def __init__(self, base: Any) -> None:
+        self.base = base
+
+    def publish(self, vx: float, wz: float, stamp_ns: int | None = None) -> None:
+        twist = Twist()
+        twist.linear.x, twist.angular.z = float(vx), float(wz)
+        self.base.publish(twist)
 
 
 class ScriptedActionClient:
@@ -108,7 +121,7 @@ class ScriptedClNav2Z(ClNav2Z, ISmaccUpdatable):
     def on_initialize(self) -> None:
         self._clients = {key: ScriptedActionClient(self.world, key, self.action_names[key])  # type: ignore[misc]
                          for key in ACTION_TYPES}
-        self._cmd_vel = self.world.base  # type: ignore[assignment]  # the base subscribes cmd_vel
+        self._cmd_vel = BaseCmdVel(self.world.base)  # type: ignore[assignment]  # the base subscribes cmd_vel
 
     def cancel_every_navigation_goal(self, on_answer: Callable[[int | None], None]) -> None:
         on_answer(0)  # the scripted servers cancel a client's goals through cancel_navigation

@@ -223,27 +223,30 @@ def motion_collides(
     return False
 
 
+def body_clear(footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray,
+               cells: float = 0.0) -> bool:
+    """Whether a circle's ``body`` outline, inset by ``cells``, stays off lethal cells at every pose;
+    True for footprints without a body."""
+    outline = footprint.body if isinstance(footprint, CircleFootprint) else None
+    if outline is None:
+        return True
+    body = outline.inset(cells * grid.spec.resolution) if cells else outline
+    return not body.collides(body.cost(grid, x, y, yaw)).any()
+
+
 def body_depth(footprint: Footprint, grid: CostGrid, x: FloatArray, y: FloatArray, yaw: FloatArray,
                levels: tuple[float, ...] = BODY_INSETS) -> float:
     """How deep (cells) a circle's ``body`` outline goes into lethal cells along the poses: the
-    smallest of ``levels`` (cells, ascending) whose inset outline stays off them at every pose,
-    found by bisection; inf when even the deepest does not; 0 for footprints without a body."""
-    outline = footprint.body if isinstance(footprint, CircleFootprint) else None
-    if outline is None:
-        return 0.0
-
-    def clear(cells: float) -> bool:
-        body = outline.inset(cells * grid.spec.resolution) if cells else outline
-        return not body.collides(body.cost(grid, x, y, yaw)).any()
-
-    if clear(levels[0]):
+    smallest of ``levels`` (cells, ascending) whose inset outline stays off them at every pose
+    (:func:`body_clear`), found by bisection; inf when even the deepest does not."""
+    if body_clear(footprint, grid, x, y, yaw, levels[0]):
         return levels[0]
     low, high = 0, len(levels) - 1  # levels[low] collides; levels[high] is clear once checked
-    if not clear(levels[high]):
+    if not body_clear(footprint, grid, x, y, yaw, levels[high]):
         return math.inf
     while high - low > 1:
         mid = (low + high) // 2
-        low, high = (low, mid) if clear(levels[mid]) else (mid, high)
+        low, high = (low, mid) if body_clear(footprint, grid, x, y, yaw, levels[mid]) else (mid, high)
     return levels[high]
 
 

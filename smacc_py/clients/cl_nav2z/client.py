@@ -25,10 +25,11 @@ from typing import Any
 
 from action_msgs.srv import CancelGoal
 from bond.msg import Status
-from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
+from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.requests import call_service
 from ros_tools.tf import Transform
@@ -86,8 +87,7 @@ class ClNav2Z(ISmaccClient):
         if not ctx.node.has_parameter(STAMPED_PARAMETER):
             ctx.node.declare_parameter(STAMPED_PARAMETER, False)
         self.stamped = bool(ctx.node.get_parameter(STAMPED_PARAMETER).value)
-        self._cmd_vel = ctx.node.create_publisher(TwistStamped if self.stamped else Twist,
-                                                  self.cmd_vel_topic, 10)
+        self._cmd_vel = CmdVelPublisher(ctx.node, self.stamped, topic=self.cmd_vel_topic)
         # Created with the machine, so that it is discovered before CbAbortNavigation needs it.
         self._cancel_every_goal = ctx.node.create_client(CancelGoal, self.cancel_service_name)
 
@@ -98,15 +98,7 @@ class ClNav2Z(ISmaccClient):
 
     def publish_twist(self, linear_x: float = 0.0, angular_z: float = 0.0) -> None:
         """Command a velocity (m/s, rad/s) on ``cmd_vel_topic``; no arguments means stop."""
-        msg = Twist()
-        msg.linear.x, msg.angular.z = float(linear_x), float(angular_z)
-        if not self.stamped:
-            self._cmd_vel.publish(msg)
-            return
-        stamped = TwistStamped(twist=msg)
-        stamped.header.frame_id = "base_link"
-        stamped.header.stamp = self.node.get_clock().now().to_msg()
-        self._cmd_vel.publish(stamped)
+        self._cmd_vel.publish(linear_x, angular_z)
 
     def action_client(self, key: str) -> RosActionClient:
         """The action client for ``key`` (navigate_to_pose, spin, backup, drive_on_heading, follow_path)."""

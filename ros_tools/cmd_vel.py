@@ -1,16 +1,20 @@
-"""The velocity command publisher of controller_server and behavior_server.
+"""The velocity command publisher of nav_stack's controller_server, behavior_server and teleop, and
+of smacc_py's ClNav2Z.
 
 Nav2 Jazzy publishes geometry_msgs/Twist on ``cmd_vel`` unless ``enable_stamped_cmd_vel`` is true,
 then TwistStamped (frame = robot base). A subscriber of the other type silently gets nothing, so
-both servers take the same parameter as sim2d.
+every publisher takes the same parameter as sim2d.
 """
 
 from __future__ import annotations
 
 from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from nav_stack.ros.qos import DEFAULT
+#: Nav2's cmd_vel QoS: reliable, volatile, the last 10.
+CMD_VEL_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE, history=HistoryPolicy.KEEP_LAST)
 
 
 class CmdVelPublisher:
@@ -21,7 +25,7 @@ class CmdVelPublisher:
         self._node = node
         self.stamped = stamped
         self.frame_id = frame_id
-        self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, DEFAULT)
+        self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, CMD_VEL_QOS)
 
     def publish(self, vx: float, wz: float, stamp_ns: int | None = None) -> None:
         """Publish (vx m/s, wz rad/s); a stamped command carries ``stamp_ns`` (node clock ns), else now.
