@@ -33,7 +33,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.ros import connected, start_python, stop_process, wait_until
+from tests.helpers.ros import BackgroundSpin, connected, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -119,14 +119,12 @@ def _drive(context: Any) -> dict[int, tuple[float, ...]]:
     driver = Driver(context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(driver)
-    thread = threading.Thread(target=executor.spin, daemon=True)
-    thread.start()
+    spin = BackgroundSpin(executor, "driver")
     try:
         wait_until(lambda: max(driver.truth, default=0) >= DRIVE_S * 1e9, 60.0, "the drive's end")
     finally:
+        spin.stop()  # first: nothing may be destroyed under a spinning thread
         driver.lockstep.destroy()
-        executor.shutdown()
-        thread.join(5.0)
         driver.destroy_node()
         out = stop_process(sim)
     assert "stamped cmd_vel arrived after" not in out, out[-2000:]
