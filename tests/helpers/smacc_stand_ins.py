@@ -117,6 +117,7 @@ class ScriptedClNav2Z(ClNav2Z, ISmaccUpdatable):
         super().__init__(*args, **kwargs)
         self.world = world
         self._bond_listeners: list[Callable[[str, bool], None]] = []
+        self.bond_holds: list[Callable[[], bool] | None] = []  # hold_until of each subscribe_bonds
 
     def on_initialize(self) -> None:
         self._clients = {key: ScriptedActionClient(self.world, key, self.action_names[key])  # type: ignore[misc]
@@ -127,8 +128,10 @@ class ScriptedClNav2Z(ClNav2Z, ISmaccUpdatable):
         on_answer(0)  # the scripted servers cancel a client's goals through cancel_navigation
 
     def subscribe_bonds(
-        self, callback: Callable[[str, bool], None], topic: str = "/bond"
+        self, callback: Callable[[str, bool], None], topic: str = "/bond",
+        hold_until: Callable[[], bool] | None = None,
     ) -> Callable[[], None]:
+        self.bond_holds.append(hold_until)  # what a lockstep simulator would wait for
         if not self.world.next_bonds_up():
             return lambda: None
         self._bond_listeners.append(callback)

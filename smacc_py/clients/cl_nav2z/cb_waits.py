@@ -42,7 +42,10 @@ class CbWaitNav2Nodes(_Nav2Wait):
         self.seen: set[str] = set()
 
     def start(self) -> None:
-        self._unsubscribe = self.requires_client(ClNav2Z).subscribe_bonds(self._on_bond, self.topic)
+        # Sim time waits for the heartbeats themselves (they follow the wall clock), so Nav2 is up
+        # at the same sim time on every run (see ClNav2Z.subscribe_bonds).
+        self._unsubscribe = self.requires_client(ClNav2Z).subscribe_bonds(
+            self._on_bond, self.topic, hold_until=lambda: self.finished)
 
     def _on_bond(self, node_id: str, active: bool) -> None:
         if active and node_id in self.nodes:

@@ -126,11 +126,18 @@ class ClNav2Z(ISmaccClient):
         return self.send_goal(NAVIGATE_TO_POSE, NavigateToPose.Goal(pose=pose), on_done)
 
     def subscribe_bonds(
-        self, callback: Callable[[str, bool], None], topic: str = "/bond"
+        self, callback: Callable[[str, bool], None], topic: str = "/bond",
+        hold_until: Callable[[], bool] | None = None,
     ) -> Callable[[], None]:
         """Call ``callback(node_id, active)`` for each bond heartbeat (bond/Status) on ``topic``, on the
         executor; returns the function that unsubscribes. Nav2's servers heartbeat a bond with their
-        lifecycle manager once active, which is how CbWaitNav2Nodes knows that Nav2 is up."""
+        lifecycle manager once active, which is how CbWaitNav2Nodes knows that Nav2 is up.
+
+        In lockstep, sim time waits (at most BOND_DISCOVERY_GRACE_S wall seconds) until
+        ``hold_until()`` is true, by default until DDS has matched a heartbeat publisher. Otherwise a
+        state's sim-time fallback (StAllSensorsGo's 15 s) could run out during discovery at
+        ``--rtf max``, and the sim time at which Nav2 counts as up would follow the machine's load:
+        the heartbeats run on a wall timer (every 0.1 s, as Nav2's)."""
         ctx = ros_context(self.sm)
 
         def on_status(msg: Status) -> None:
@@ -138,10 +145,8 @@ class ClNav2Z(ISmaccClient):
 
         subscription = ctx.node.create_subscription(Status, topic, on_status, BOND_QOS)
         subscribed = [True]
-        # In lockstep, sim time waits for DDS to match the heartbeats' publishers: otherwise a state's
-        # sim-time fallback (StAllSensorsGo's 15 s) could run out during discovery at --rtf max.
-        ctx.hold_lockstep(lambda: not subscribed[0] or subscription.get_publisher_count() > 0,
-                          BOND_DISCOVERY_GRACE_S)
+        ready = hold_until or (lambda: subscription.get_publisher_count() > 0)
+        ctx.hold_lockstep(lambda: not subscribed[0] or ready(), BOND_DISCOVERY_GRACE_S)
 
         def unsubscribe() -> None:
             subscribed[0] = False  # the hold must not ask a destroyed subscription

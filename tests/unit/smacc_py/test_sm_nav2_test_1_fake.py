@@ -103,6 +103,18 @@ def test_later_failures_abort_to_the_final_state(
     assert keys[-1] == last
 
 
+def test_waiting_for_nav2_holds_lockstep_until_the_bonds_are_seen(mission: Callable[..., Mission]) -> None:
+    """CbWaitNav2Nodes asks a lockstep simulator to wait for the heartbeats themselves (they come
+    on a wall timer), not only for their publisher, so Nav2 is up at the same sim time every run."""
+    sm, world = mission()
+    sm.process_events()
+    (hold,) = sm.requires_client(ClNav2Z).bond_holds
+    assert hold is not None and not hold()  # entered StAllSensorsGo, no heartbeat yet
+    assert world.drive(sm, lambda: bool(sm.transition_log))
+    assert _keys(sm)[0] == NOMINAL_TRANSITIONS[0]
+    assert hold()  # every heartbeat seen: the simulator may step on
+
+
 def test_timer_fallback_fires_after_15_s_of_machine_clock(mission: Callable[..., Mission]) -> None:
     sm, world = mission(bonds=(False, True))  # Nav2 silent in StAllSensorsGo only
     assert world.drive(sm, lambda: bool(sm.transition_log))
