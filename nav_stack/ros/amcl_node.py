@@ -30,7 +30,9 @@ filter itself lives in the core, so this node only translates and schedules:
 Parameters: every nav2_amcl name and Jazzy default (AmclParams); Nav2's nested ``initial_pose.x``,
 ``.y``, ``.z``, ``.yaw`` are read too and win over the flat ``initial_pose_x``... when set. One
 addition, ``random_seed`` (int, default 0): the particle filter's random generator is seeded with it,
-so a lockstep run repeats exactly (nav2_amcl seeds with the wall time; -1 does the same here); and
+so a lockstep run repeats exactly (nav2_amcl seeds with the wall time; -1 does the same here). It is
+seeded again at every initial pose, so the cloud drawn there does not depend on how many scans the
+filter happened to take before the pose arrived (a matter of DDS timing); and
 the health check's thresholds ``health.*`` (HealthParams).
 """
 
@@ -52,7 +54,7 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.localization import Amcl, AmclParams, PoseEstimate, map_to_odom
 from nav_stack.ros.amcl_health import HealthReport
 from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
-from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_generator
+from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_seed
 from nav_stack.ros.conversions import grid_from_occupancy, pose_to_2d
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
@@ -82,6 +84,7 @@ class AmclNode(NavLifecycleNode):
         super().__init__(NODE_NAME, **kwargs)
         self._given_rng = rng
         self.rng = rng if rng is not None else np.random.default_rng(DEFAULT_SEED)
+        self._seed: int | None = None  # random_seed, re-applied at each initial pose (None: don't)
         self.params = AmclParams()
         self.amcl: Amcl | None = None
         self._pending_pose: tuple[Pose, np.ndarray | None, str] | None = None
@@ -100,7 +103,8 @@ class AmclNode(NavLifecycleNode):
     def configure(self) -> None:
         self.params = load_params(self)
         self.health_params = load_health_params(self)
-        self.rng = self._given_rng or random_generator(self)
+        self._seed = None if self._given_rng else random_seed(self)
+        self.rng = self._given_rng or np.random.default_rng(self._seed)
         self.tf = TransformListener(self)
         self.tf_broadcaster = TransformBroadcaster(self)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "amcl_pose", LATCHED)
@@ -209,6 +213,8 @@ class AmclNode(NavLifecycleNode):
                                    "it is applied when the map arrives")
             self._pending_pose, self._pending_global = (pose, covariance, source), False
             return False
+        if self._seed is not None:  # the same pose draws the same cloud, whatever came before
+            self.rng = self.amcl.rng = np.random.default_rng(self._seed)
         try:
             self.amcl.set_initial_pose(*pose, covariance)
         except ValueError as error:

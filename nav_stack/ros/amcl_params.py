@@ -9,8 +9,6 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-import numpy as np
-
 from nav_stack.core.localization import AmclParams
 from nav_stack.core.localization.health import HealthParams
 from nav_stack.ros.lifecycle import NavLifecycleNode
@@ -36,12 +34,12 @@ def load_params(node: NavLifecycleNode) -> AmclParams:
     return dataclasses.replace(params, **nested)
 
 
-def random_generator(node: NavLifecycleNode) -> np.random.Generator:
-    """The filter's generator from the ``random_seed`` parameter (-1: seeded from OS entropy)."""
+def random_seed(node: NavLifecycleNode) -> int | None:
+    """The filter's seed from the ``random_seed`` parameter; None (OS entropy) for a negative one."""
     if not node.has_parameter("random_seed"):
         node.declare_parameter("random_seed", DEFAULT_SEED)
     seed = int(node.get_parameter("random_seed").value)
-    return np.random.default_rng(None if seed < 0 else seed)
+    return None if seed < 0 else seed
 
 
 def load_health_params(node: NavLifecycleNode) -> HealthParams:

@@ -36,8 +36,10 @@ TRUE_POSE = (-2.0, -0.5, 0.0)
 
 
 class Graph:
-    def __init__(self, context: Any, overrides: list[Parameter]) -> None:
-        self.amcl = AmclNode(rng=np.random.default_rng(0), context=context, parameter_overrides=overrides)
+    def __init__(self, context: Any, overrides: list[Parameter], given_rng: bool = True) -> None:
+        """``given_rng`` False: the node makes its generator from its ``random_seed`` parameter."""
+        rng = np.random.default_rng(0) if given_rng else None
+        self.amcl = AmclNode(rng=rng, context=context, parameter_overrides=overrides)
         self.probe = Node("amcl_probe", context=context)
         self.executor = SingleThreadedExecutor(context=context)
         self.executor.add_node(self.amcl)
@@ -165,6 +167,23 @@ def test_random_seed_parameter_makes_the_filter_repeat(ros_context: Any) -> None
     assert np.array_equal(first_draws(7), first_draws(7))
     assert not np.array_equal(first_draws(7), first_draws(8))
     assert not np.array_equal(first_draws(-1), first_draws(-1))
+
+
+def test_each_initial_pose_draws_the_same_cloud_whatever_the_filter_drew_before(ros_context: Any) -> None:
+    """``random_seed`` is applied again at every initial pose, so the cloud drawn there depends on the
+    pose alone, not on how many scans the filter took before it (in a lockstep run, DDS timing)."""
+    graph = Graph(ros_context, [Parameter("random_seed", value=3)], given_rng=False)
+    try:
+        client = graph.probe.create_client(SetInitialPose, "/set_initial_pose")
+        clouds = []
+        for draws_before in (0, 5):
+            graph.amcl.rng.random(draws_before)  # what scan updates before the pose would have drawn
+            call(graph.executor, client, SetInitialPose.Request(pose=_pose_msg(-1.8, -0.4, 0.1)))
+            assert graph.amcl.amcl is not None
+            clouds.append(graph.amcl.amcl.particles.copy())
+        assert clouds[0].shape[0] > 0 and np.array_equal(clouds[0], clouds[1])
+    finally:
+        graph.close()
 
 
 class Updates:
