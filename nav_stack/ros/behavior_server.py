@@ -41,6 +41,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
 from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
+from ros_tools.runtime.timers import create_periodic_timer
 
 #: plugin type -> (action type, TF_ERROR code)
 BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
@@ -107,7 +108,7 @@ class BehaviorServer(NavLifecycleNode):
                 result_timeout=round(p.action_server_result_timeout)))
 
     def activate(self) -> None:
-        self._timer = self.create_timer(1.0 / self.behavior_params.cycle_frequency, self._cycle)
+        self._timer = create_periodic_timer(self, 1.0 / self.behavior_params.cycle_frequency, self._cycle)
         self._active = True
 
     def deactivate(self) -> None:

@@ -65,6 +65,7 @@ from nav_stack.ros.node_runner import run
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
 from ros_tools.runtime.actions import ActionServer
+from ros_tools.runtime.timers import create_periodic_timer
 
 ROBOT_POSE_WAIT_S = 5.0  # s (wall, steady clock) a new goal waits for the robot pose before TF_ERROR
 FEEDBACK_PERIOD = 0.05  # s (wall) between feedback messages; Nav2 sends one per tick
@@ -155,7 +156,7 @@ class BtNavigator(NavLifecycleNode):
         self._active = True
         # On the node clock: under use_sim_time the tree ticks every bt_loop_duration ms of sim time,
         # so a faster-than-real-time run ticks it as often per simulated second as a real-time one.
-        self._timer = self.create_timer(self.params.bt_loop_duration / 1000.0, self._tick)
+        self._timer = create_periodic_timer(self, self.params.bt_loop_duration / 1000.0, self._tick)
         self._clock_watch = ClockWatch(self, lambda: self._session is not None, "navigation")
 
     def deactivate(self) -> None:

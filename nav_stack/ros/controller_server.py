@@ -61,6 +61,7 @@ from nav_stack.ros.response_monitor import ResponseMonitor
 from nav_stack.ros.selectors import Selector
 from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
+from ros_tools.runtime.timers import create_periodic_timer
 
 Code = ControllerErrorCode
 
@@ -145,7 +146,7 @@ class ControllerServer(NavLifecycleNode):
 
     def activate(self) -> None:
         run_transition(self.costmap_node, "activate")
-        self._timer = self.create_timer(1.0 / self.params.controller_frequency, self._cycle)
+        self._timer = create_periodic_timer(self, 1.0 / self.params.controller_frequency, self._cycle)
         self._active = True
 
     def deactivate(self) -> None:

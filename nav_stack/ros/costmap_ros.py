@@ -52,6 +52,7 @@ from nav_stack.ros.costmap_params import build_layers, declare_costmap_params
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
+from ros_tools.runtime.timers import create_periodic_timer
 from ros_tools.tf import TransformError
 from ros_tools.tf.ros import stamp_to_seconds
 
@@ -133,8 +134,8 @@ class CostmapROS(NavLifecycleNode):
     def activate(self) -> None:
         p = self.params
         self._layer_timers = [
-            self.create_timer(1.0 / p.update_frequency, self._update),
-            self.create_timer(1.0 / p.publish_frequency, self._publish),
+            create_periodic_timer(self, 1.0 / p.update_frequency, self._update),
+            create_periodic_timer(self, 1.0 / p.publish_frequency, self._publish),
         ]
         if p.update_frequency < 1.0 / FIRST_UPDATE_RETRY:
             self._warmup_timer = self.create_timer(FIRST_UPDATE_RETRY, self._update_until_ready)

@@ -50,6 +50,7 @@ from nav_stack.ros.conversions import duration_msg, grid_from_occupancy, pose_st
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import LATCHED
+from ros_tools.runtime.timers import create_periodic_timer
 from ros_tools.runtime.waiting import steady_clock
 from ros_tools.tf.ros import stamp_to_seconds
 
@@ -117,7 +118,7 @@ class ExploreNode(Node):
         self._last_progress = -math.inf
         self._ending = False  # the run has ended and the map is being saved
         self.create_subscription(OccupancyGrid, "map", self._on_map, LATCHED)
-        self._timer = self.create_timer(TICK_PERIOD, self._step)
+        self._timer = create_periodic_timer(self, TICK_PERIOD, self._step)
 
     def now(self) -> float:
         return self.get_clock().now().nanoseconds * 1e-9

@@ -36,6 +36,7 @@ from rclpy.parameter import Parameter
 
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
+from ros_tools.runtime.timers import create_periodic_timer
 from smacc_py.core import SmaccEngineParams, SmaccError, SmaccStateMachineBase
 from smacc_py.ros.clock_gate import FirstClock
 from smacc_py.ros.context import RosContext, attach_ros_context
@@ -161,7 +162,8 @@ class SmaccRuntime:
             return
         self.started_at_s = self.ros.now_s()
         self.dispatch.dispatch_after(self.sm.start)
-        self._timer = self.node.create_timer(1.0 / self.params.signal_detector_loop_freq, self._on_tick)
+        self._timer = create_periodic_timer(self.node, 1.0 / self.params.signal_detector_loop_freq,
+                                            self._on_tick)
 
     def _on_tick(self) -> None:
         """ISmaccUpdatable polling (SMACC2's SignalDetector), then the events it posted."""

@@ -46,6 +46,7 @@ from nav_stack.ros.autonomy.navigator import RosNavigator
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
 from nav_stack.ros.params import declare_dataclass
 from ros_tools.runtime.executor import add_executor_argument
+from ros_tools.runtime.timers import create_periodic_timer
 
 REPO = Path(__file__).resolve().parents[3]
 BATTERY_SOURCES = ("topic", "counter")
@@ -154,7 +155,7 @@ class AutonomyNode(Node):
         self._structure_pub.publish(String(data=json.dumps(tree_structure(self.tree))))
         if isinstance(self.battery, TopicBattery):
             self.create_subscription(BatteryState, p.battery_topic, self._on_battery, 10)
-        self._timer = self.create_timer(p.tick_period, self._tick)
+        self._timer = create_periodic_timer(self, p.tick_period, self._tick)
         self.get_logger().info(f"tree {self.tree_file} ({len(self.tree.nodes)} nodes), "
                                f"{len(locations)} locations from {self.location_file}, "
                                f"battery {p.battery_source}, "

@@ -1,0 +1,60 @@
+"""Periodic timers that run once per period, whatever the executor queues.
+
+Why: rclpy's EventsExecutor (7.1, experimental upstream) queues a timer's "ready" event again
+while the first one waits for the executor; rclcpp's EventsExecutor has the same fault
+(ros2/rclcpp#2771, a burst of queued timer events). Every delivery runs the callback, and rcl moves
+the timer's next call one period on each time without checking that the timer was due. Measured
+on the seed mission in lockstep: 20 to 25 % of the deliveries of the controller's, the behavior
+tree's and the state machine's timers came before their time, most of them at the same sim time
+as the call before (so a cycle ran twice and the next was skipped). Once, the controller server's
+20 Hz cycle ran 190 times at one sim time (16.21 s) and stamped its commands up to 25.6 s; its
+progress checker, reading those cycle times, aborted the path ("moved less than 0.5 m in 10 s"),
+and the simulator drove the robot on the queued commands for 9 s of sim time.
+
+The guard: after a due call the next call lies at most one period ahead of the clock. A delivery
+that leaves it further ahead came before its time. It is dropped and the timer is reset, so the
+next call is one period after now instead of one period later for every such delivery. (Putting
+the next call back exactly on the old grid, by resetting with a shortened period, made the
+executor deliver the event again at once, hundreds of times until the clock moved on.)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from rclpy.clock import Clock
+from rclpy.node import Node
+
+
+class _DueOnly:
+    """The timer callback: runs ``callback`` for due deliveries, drops and counts the early ones."""
+
+    def __init__(self, node: Node, callback: Callable[[], None]) -> None:
+        self.node = node
+        self.callback = callback
+        self.timer: Any = None
+        self.dropped = 0  # deliveries before their time, since the timer was made
+
+    def __call__(self) -> None:
+        timer = self.timer
+        ahead = timer.time_until_next_call()  # ns; None once canceled
+        if ahead is None:
+            return
+        if ahead > timer.timer_period_ns:
+            timer.reset()  # next call one period from now
+            self.dropped += 1
+            self.node.get_logger().debug(
+                f"dropped a timer event before its time ({getattr(self.callback, '__name__', 'callback')}, "
+                f"{self.dropped} so far)", throttle_duration_sec=10.0)
+            return
+        self.callback()
+
+
+def create_periodic_timer(node: Node, period_s: float, callback: Callable[[], None],
+                          clock: Clock | None = None) -> Any:
+    """``node.create_timer(period_s, callback, clock=clock)``, with the deliveries that come before
+    their time dropped (see the module docstring). ``callback`` must be a plain function."""
+    due_only = _DueOnly(node, callback)
+    due_only.timer = node.create_timer(period_s, due_only, clock=clock)
+    return due_only.timer
