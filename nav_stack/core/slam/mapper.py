@@ -7,8 +7,10 @@ Per processed scan (one per ``minimum_travel_distance`` / ``minimum_travel_headi
 2. match the scan against the running buffer (the last ``scan_buffer_size`` scans) and the map
    with the correlative matcher around the prediction, then refine the pose on a finer grid of
    the exact returns of the buffer and of the scans within ``refine_scan_distance``, joined into
-   lines (tracking.py); a weak response keeps the prediction;
-3. add a pose-graph node with a sequential edge, and fold the scan into the log-odds grid;
+   lines (tracking.py); a weak response keeps the prediction, and so does a direction the match
+   leaves degenerate, but for the correction of the returns facing it (match_information.py);
+3. add a pose-graph node with a sequential edge as certain as the match per direction, and fold
+   the scan into the log-odds grid;
 4. look for a loop closure against the nearest older, unlinked scan chain, within a window as wide
    as the graph's drift between the chain and the new scan (loop_closure.py); a match with strong
    responses and a distinct peak adds a robust edge weighted by the match covariance, the whole
@@ -31,7 +33,7 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import FloatArray, Pose2D, compose
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
-from nav_stack.core.slam.correlation import MatchResult, SearchWindow
+from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow
 from nav_stack.core.slam.laser import ScanPoints, clouds_in_map, joined_returns, scan_points
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.loop_closure import search_loop
@@ -48,7 +50,7 @@ from nav_stack.core.slam.shared import (
     inverse,
     loop_information,
 )
-from nav_stack.core.slam.tracking import link_information, match_running_buffer, tracked_pose, trusted
+from nav_stack.core.slam.tracking import match_running_buffer, prediction_stddev, track, trusted
 
 
 class GridSlam:
@@ -146,10 +148,11 @@ class GridSlam:
         points = scan_points(scan, laser_pose, p.max_laser_range)
         pose, response, information = predicted, 0.0, None
         if p.use_scan_matching:
-            result = self._match_running_buffer(points, predicted)
+            result, fine = self._match_running_buffer(points, predicted)
             if result is not None and trusted(result):
-                pose, response = tracked_pose(result, predicted).pose, result.response
-                information = link_information(p, result.covariance, pose.yaw)
+                stddev = prediction_stddev(p, self._odom[-1], odom_pose)
+                pose, information = track(p, self._link_window, result, fine, points, predicted, stddev)
+                response = result.response
         update = self._add_node(scan, odom_pose, pose, stamp, laser_pose, response, points, information)
         if p.do_loop_closing and self._try_loop_closure():
             latest = self._poses[-1]
@@ -171,7 +174,7 @@ class GridSlam:
         start, self._restart = self._restart, None
         assert start is not None
         points = scan_points(scan, laser_pose, self.params.max_laser_range)
-        result = self._match_running_buffer(points, start)
+        result = self._match_running_buffer(points, start)[0]
         if result is None or not trusted(result):
             return self._add_node(scan, odom_pose, start, stamp, laser_pose, 0.0, points)
         return self._add_node(scan, odom_pose, result.pose, stamp, laser_pose, result.response, points)
@@ -269,7 +272,9 @@ class GridSlam:
         reference of the fine refinement."""
         return clouds_in_map(self._dense, self._poses, indices)
 
-    def _match_running_buffer(self, points: ScanPoints, predicted: Pose2D) -> MatchResult | None:
+    def _match_running_buffer(
+        self, points: ScanPoints, predicted: Pose2D
+    ) -> tuple[MatchResult | None, CorrelationGrid | None]:
         """Match against the running buffer and, unless it is being re-rendered, the map (tracking.py)."""
         grid = self._grid if self.params.match_against_map and self._rerender is None else None
         return match_running_buffer(

@@ -57,6 +57,10 @@ class SlamParams:
             joined into lines: exact points, where the map's occupied cells are quantised to
             whole cells and two or three cells thick.
         max_scan_points: beams kept for matching (evenly subsampled; bounds the cost).
+        odometry_translation_noise: standard deviation of odometry's position per metre travelled
+            (relative, like AMCL's odom_alpha3): the prediction's uncertainty along a direction the
+            match leaves degenerate, weighed against the returns facing it (degeneracy.py); 0 keeps
+            the prediction there. Not a slam_toolbox knob.
 
     Loop closure:
         do_loop_closing: search older scans near the robot for loop closures.
@@ -74,8 +78,10 @@ class SlamParams:
             loop edges the rest of the graph contradicts (not a slam_toolbox knob).
         loop_closure_cooldown_nodes: processed scans to wait after an accepted closure before
             searching again (bounds the cost of revisiting an area; not a slam_toolbox knob).
-        link_stddev_xy / link_stddev_yaw: standard deviation (m, rad) of every sequential
-            (scan-matched) pose-graph constraint; loop edges take the match's own covariance.
+        link_stddev_xy / link_stddev_yaw: standard deviation (m, rad) of a sequential pose-graph
+            constraint where the scan was not matched (odometry only), and the drift per link the
+            loop search window assumes; a matched link takes the refined match's own information
+            (tracking.link_information), loop edges the match's covariance.
         optimizer_max_iterations: Gauss-Newton iterations of the pose-graph solve.
     """
 
@@ -111,6 +117,7 @@ class SlamParams:
     refine_smear_deviation: float = 0.03
     refine_scan_distance: float = 0.5
     max_scan_points: int = 360
+    odometry_translation_noise: float = 0.05
 
     do_loop_closing: bool = True
     loop_search_maximum_distance: float = 3.0

@@ -108,8 +108,20 @@ def match_scan(
     reference) at ``refine_resolution`` / ``refine_smear_deviation``. None when either side has
     fewer than MIN_MATCH_POINTS points.
     """
+    return match_scan_on_grids(params, reference, hits, prior, window, fine_reference)[0]
+
+
+def match_scan_on_grids(
+    params: SlamParams,
+    reference: FloatArray,
+    hits: FloatArray,
+    prior: Pose2D,
+    window: SearchWindow,
+    fine_reference: FloatArray | None = None,
+) -> tuple[MatchResult | None, CorrelationGrid | None]:
+    """``match_scan`` and the refinement grid it ran on (None without refinement or match)."""
     if len(reference) < MIN_MATCH_POINTS or len(hits) < MIN_MATCH_POINTS:
-        return None
+        return None, None
     p = params
     half = p.max_laser_range + window.half_extent + 3.0 * p.correlation_search_space_smear_deviation
     grid = CorrelationGrid(
@@ -125,4 +137,4 @@ def match_scan(
             p.refine_resolution,
             p.refine_smear_deviation,
         )
-    return match(grid, subsample(hits, p.max_scan_points), prior, window, fine)
+    return match(grid, subsample(hits, p.max_scan_points), prior, window, fine), fine
