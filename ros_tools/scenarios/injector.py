@@ -14,7 +14,8 @@ Events (values as in the scenario file; each becomes one message to sim2d, or on
   process that dies, and the mission ends with STACK.
 
 It is a lockstep participant (role ``scenario_events``) that reports only once every publisher it needs
-has matched the simulator's subscription; the farm also names the role in nav-bringup's
+has matched the simulator's subscription and, for ``kill_navigation``, once it has heard the
+navigation process's pid; the farm also names the role in nav-bringup's
 ``--participant`` list, so the simulator does not step before the injector is there and never runs
 more than one lockstep lead (0.05 s) past an event's time. An event waits while its channel is not
 ready (no subscriber yet, no navigation pid heard yet), so none is lost. It stays up after its last
@@ -89,8 +90,10 @@ def build_node(events: list[dict[str, Any]]) -> Any:
             print(f"applied {kind} {what} at t={now:.2f} s", flush=True)
 
     node.create_subscription(Clock, "/clock", on_clock, reliable)
-    publishers_ready = [ready for kind, (ready, _) in appliers.items() if kind != "kill_navigation"]
-    node.scenario_ready = lambda: all(ready() for ready in publishers_ready)  # type: ignore[attr-defined]
+    # Every channel, the navigation pid included: an injector that joined before it had heard the
+    # pid let the simulator run past a kill's time (CI run CN: "at t=5.0" applied at 6.80 s).
+    channels_ready = [ready for ready, _ in appliers.values()]
+    node.scenario_ready = lambda: all(ready() for ready in channels_ready)  # type: ignore[attr-defined]
     return node
 
 
