@@ -113,18 +113,21 @@ def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait =
 
 
 async def acknowledged(node: Any, client: Any, goal: Any, sends: int,
-                       wanted: Callable[[], bool] = lambda: True, clock: Any = None) -> Future | None:
+                       wanted: Callable[[], bool] = lambda: True, clock: Any = None,
+                       withdrawals: Withdrawals | None = None) -> Future | None:
     """Coroutine twin of :func:`send_until_acknowledged`, for a node's own executor (await it in a
     :func:`.coroutines.spawn` coroutine; nothing blocks): send ``goal``, and again every ACK_RETRY_S s
     (``clock``: a steady clock unless given), at most ``sends`` copies. The acknowledged copy's
     ``send_goal_async`` future; None when no copy was acknowledged or ``wanted()`` turned False.
-    Copies acknowledged later, or after the caller stopped wanting the goal, are canceled if accepted.
+    Copies acknowledged later, or after the caller stopped wanting the goal, are canceled if accepted;
+    pass ``withdrawals`` to know when those cancels have reached the server (:class:`Withdrawals`).
     """
     answer, copies = await first_answer(node, lambda: client.send_goal_async(goal), [ACK_RETRY_S] * sends,
                                         clock, wanted)
+    withdrawals = Withdrawals() if withdrawals is None else withdrawals
     for copy in copies:
         if copy is not answer:
-            copy.add_done_callback(cancel_if_accepted)
+            withdrawals.add(copy)
     return answer
 
 
@@ -134,6 +137,45 @@ def cancel_if_accepted(future: Future) -> None:
     handle = future.result()
     if handle is not None and handle.accepted:
         handle.cancel_goal_async()
+
+
+class Withdrawals:
+    """Copies of a goal the caller no longer wants: each one the server accepts is canceled.
+
+    :meth:`settled` is true once every copy has its answer and every cancel sent for one has its
+    response. A process that is about to exit waits for it: a request still in the process's DDS
+    queue dies with the process, and the server then goes on with the goal. Seen with SIGTERM
+    between the server's acceptance of a goal and the client's receipt of the acknowledgement: the
+    client gave the goal up as "canceled before acknowledged", exited, and the goal ran on.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._unsettled: list[Future] = []  # copies awaiting their answer, cancels awaiting theirs
+
+    def add(self, copy: Future) -> None:
+        """Withdraw ``copy`` (a ``send_goal_async`` future): cancel its goal if the server accepts it."""
+        with self._lock:
+            self._unsettled.append(copy)
+        copy.add_done_callback(self._on_answer)
+
+    def settled(self) -> bool:
+        with self._lock:
+            return not self._unsettled
+
+    def _on_answer(self, copy: Future) -> None:
+        handle = copy.result() if copy.exception() is None else None
+        cancel = handle.cancel_goal_async() if handle is not None and handle.accepted else None
+        with self._lock:
+            self._unsettled.remove(copy)
+            if cancel is not None:
+                self._unsettled.append(cancel)
+        if cancel is not None:
+            cancel.add_done_callback(self._forget)
+
+    def _forget(self, cancel: Future) -> None:
+        with self._lock:
+            self._unsettled.remove(cancel)
 
 
 class ActionClient(RclpyActionClient):

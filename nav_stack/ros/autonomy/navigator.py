@@ -23,7 +23,7 @@ from rclpy.node import Node
 from nav_stack.ros.autonomy.locations import Location
 from nav_stack.ros.autonomy.seed_nodes import NavOutcome
 from nav_stack.ros.conversions import pose_stamped
-from ros_tools.runtime.actions import ACK_RETRY_S, acknowledged
+from ros_tools.runtime.actions import ACK_RETRY_S, Withdrawals, acknowledged
 from ros_tools.runtime.coroutines import spawn
 
 #: copies of a goal sent (ACK_RETRY_S s apart) before the goal is given up as aborted.
@@ -46,6 +46,7 @@ class RosNavGoal:
         self._handle: Any = None
         self._cancel_requested = False
         self._cancel_future: Any = None  # the cancel request's response, once one was sent
+        self._withdrawals = Withdrawals()  # copies sent while unwanted, canceled if the server accepts them
 
     def outcome(self) -> NavOutcome | None:
         with self._lock:
@@ -69,7 +70,10 @@ class RosNavGoal:
 
     def cancel_answered(self) -> bool:
         """No cancel is still on its way: sent and unanswered, or asked for before the server
-        acknowledged the goal (it is sent with the acknowledgement)."""
+        acknowledged the goal (it is sent with the acknowledgement), or for a copy the server
+        accepted after the goal was given up."""
+        if not self._withdrawals.settled():
+            return False
         with self._lock:
             if self._cancel_future is not None:
                 return bool(self._cancel_future.done())
@@ -137,7 +141,7 @@ class RosNavigator:
 
     async def _send(self, goal: RosNavGoal, request: NavigateToPose.Goal) -> None:
         answer = await acknowledged(self.node, self._client, request, SENDS,
-                                    wanted=lambda: not goal._canceled())
+                                    wanted=lambda: not goal._canceled(), withdrawals=goal._withdrawals)
         if answer is not None:
             goal._on_goal_response(answer)
         elif goal._canceled():
