@@ -2,7 +2,8 @@
 
 Why: with several hypotheses (symmetric corridors, global localization) the weighted mean of all
 particles lies between them; Nav2 reports the mean of the heaviest cluster instead. A cluster is a
-connected set of occupied histogram bins (26-neighbourhood in x, y, yaw bins). The covariance is the
+connected set of occupied histogram bins (26-neighbourhood in x, y, yaw bins; the yaw bins wrap round
+at ±π: bins that did not wrap split a cloud facing west in two). The covariance is the
 whole set's, as Nav2 publishes it: weighted (x, y) covariance and, for yaw, the circular variance
 −2·ln R with R the length of the weighted mean heading vector.
 """
@@ -17,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.grid import FloatArray
-from nav_stack.core.localization.kld import bin_keys, decode_keys
+from nav_stack.core.localization.kld import bin_keys, decode_keys, wrap_yaw_bin
 
 _NEIGHBOURS = [d for d in itertools.product((-1, 0, 1), repeat=3) if d != (0, 0, 0)]
 
@@ -41,7 +42,7 @@ def cluster_labels(particles: FloatArray) -> npt.NDArray[np.int64]:
     kx, ky, kt = decode_keys(ukeys)
     src_list, dst_list = [], []
     for dx, dy, dt in _NEIGHBOURS:
-        target = ((kx + dx) << 29) | ((ky + dy) << 8) | (kt + dt)
+        target = ((kx + dx) << 29) | ((ky + dy) << 8) | wrap_yaw_bin(kt + dt)
         pos = np.clip(np.searchsorted(ukeys, target), 0, ukeys.size - 1)
         hit = ukeys[pos] == target
         src_list.append(np.nonzero(hit)[0])

@@ -21,13 +21,17 @@ from nav_stack.core.grid import FloatArray
 BIN_XY = 0.5  # m
 BIN_YAW = math.radians(10.0)  # rad
 _OFFSET = 1 << 20
+_YAW_OFFSET = 64  # keeps the yaw bin index of a heading in [−π, π) positive within its 8 bits
+#: The yaw bin indices of headings in [−π, π): the first, and how many there are.
+_YAW_FIRST = math.floor(-math.pi / BIN_YAW) + _YAW_OFFSET
+_YAW_COUNT = math.floor(math.nextafter(math.pi, 0.0) / BIN_YAW) + _YAW_OFFSET - _YAW_FIRST + 1
 
 
 def bin_keys(particles: FloatArray) -> npt.NDArray[np.int64]:
     """One int64 key per particle naming its (x, y, yaw) histogram bin."""
     kx = np.floor(particles[:, 0] / BIN_XY).astype(np.int64) + _OFFSET
     ky = np.floor(particles[:, 1] / BIN_XY).astype(np.int64) + _OFFSET
-    kt = np.floor(particles[:, 2] / BIN_YAW).astype(np.int64) + 64
+    kt = np.floor(particles[:, 2] / BIN_YAW).astype(np.int64) + _YAW_OFFSET
     keys: npt.NDArray[np.int64] = (kx << 29) | (ky << 8) | kt
     return keys
 
@@ -35,6 +39,13 @@ def bin_keys(particles: FloatArray) -> npt.NDArray[np.int64]:
 def decode_keys(keys: npt.NDArray[np.int64]) -> tuple[npt.NDArray[np.int64], ...]:
     """Bin indices (kx, ky, kyaw) of keys made by :func:`bin_keys` (offsets kept)."""
     return keys >> 29, (keys >> 8) & ((1 << 21) - 1), keys & 0xFF
+
+
+def wrap_yaw_bin(kt: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """Yaw bin indices taken round the circle: one past the bin just under +π is the bin at −π, so
+    that the two count as neighbours (a heading of 179° is 2° from one of −179°)."""
+    wrapped: npt.NDArray[np.int64] = (kt - _YAW_FIRST) % _YAW_COUNT + _YAW_FIRST
+    return wrapped
 
 
 def kld_limit(

@@ -154,6 +154,18 @@ def test_estimate_is_the_mean_of_the_heaviest_cluster() -> None:
     assert est.covariance[0, 0] > 1.0  # the set's covariance spans both clusters, as Nav2 publishes
 
 
+def test_a_cloud_facing_west_is_one_cluster_across_the_heading_wrap() -> None:
+    """Headings just under +π and just over −π are neighbours: the yaw bins wrap round. Before, the
+    cloud split into two clusters at ±π and the estimate was the mean of one half, 0.8 σ off (0.16 rad
+    for a 0.2 rad spread: test_tb4 saw one 0.23 rad estimate while the robot turned through west)."""
+    rng = np.random.default_rng(3)
+    yaw = np.mod(math.pi + rng.normal(0.0, 0.2, 2000) + math.pi, math.tau) - math.pi
+    cloud = np.column_stack([rng.normal(1.0, 0.05, 2000), rng.normal(2.0, 0.05, 2000), yaw])
+    est = estimate_pose(cloud, np.ones(2000))
+    assert est.cluster_count == 1
+    assert abs(math.remainder(est.yaw - math.pi, math.tau)) < 0.02
+
+
 def test_map_to_odom_composes_back_to_the_estimate() -> None:
     est, odom = (1.0, 2.0, 0.7), (0.3, -0.4, -0.5)
     tx, ty, tyaw = map_to_odom(est, odom)
