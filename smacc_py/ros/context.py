@@ -26,6 +26,9 @@ if TYPE_CHECKING:
     from ros_tools.tf.ros import TransformListener
 
 _ATTR = "_smacc_ros_context"
+#: wall s a client holds lockstep while DDS discovers a peer it is about to talk to (an action server,
+#: AMCL's initial pose subscription): a few hundred ms on localhost; under sim2d's 10 s participant timeout.
+DISCOVERY_HOLD_S = 2.0
 
 
 @dataclass
@@ -72,6 +75,14 @@ class RosContext:
 def attach_ros_context(sm: object, context: RosContext) -> None:
     """Give a machine its ROS context (the runtime calls this before ``initialize()``)."""
     setattr(sm, _ATTR, context)
+
+
+def hold_lockstep(sm: object, until: Callable[[], bool], grace_s: float = DISCOVERY_HOLD_S) -> None:
+    """:meth:`RosContext.hold_lockstep` for ``sm`` when a ROS runtime runs it; nothing otherwise (a
+    machine driven by test stand-ins has no simulator to hold)."""
+    context = getattr(sm, _ATTR, None)
+    if context is not None:
+        context.hold_lockstep(until, grace_s)
 
 
 def ros_context(sm: object) -> RosContext:

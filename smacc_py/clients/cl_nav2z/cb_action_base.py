@@ -1,8 +1,9 @@
 """``CbNav2ZActionBase``: a behavior that sends one ClNav2Z action goal and reports its end.
 
 ``on_entry`` builds the goal (``make_goal`` returns (action key, goal) or None after posting its own
-failure) and sends it at once when the action server is discovered. Otherwise the runtime's polling
-(ISmaccUpdatable, on the executor thread) sends it as soon as the server appears, or posts
+failure) and sends it at once when the action server is discovered. Otherwise sim time waits for the
+server in lockstep (at most DISCOVERY_HOLD_S wall s), and the runtime's polling (ISmaccUpdatable, on
+the executor thread) sends the goal as soon as the server appears, or posts
 EvCbFailure once ``server_wait_s`` has passed both on the machine clock and on the wall clock
 (discovery takes wall time; the machine clock keeps the wait at least as long in sim time however
 fast the simulation runs). The goal's end posts ``EvCbSuccess`` or ``EvCbFailure[Cb, Or]`` with the
@@ -25,6 +26,7 @@ from smacc_py.clients.cl_nav2z.cp_odom_tracker import CpOdomTracker
 from smacc_py.clients.cl_nav2z.odom_path import WorkingMode
 from smacc_py.core import ISmaccUpdatable, SmaccClientBehavior, SmaccLookupError
 from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
+from smacc_py.ros.context import hold_lockstep
 
 C = TypeVar("C")
 
@@ -59,6 +61,9 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
             self._send(key, goal)
         else:
             self._waiting = (action, key, goal, self.sm.now(), time.monotonic())
+            # Discovery takes wall time: sim time waits for the server, so the goal leaves at the
+            # same sim time on every run (instead of after however much sim ran meanwhile).
+            hold_lockstep(self.sm, lambda: self._waiting is None or action.server_ready())
 
     def update(self) -> None:
         """While the server is not discovered: send once it is, or fail after ``server_wait_s``."""
