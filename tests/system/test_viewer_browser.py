@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.helpers.nav_ros_bt_stack import READY, Bringup
 from tests.helpers.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
@@ -233,11 +234,16 @@ def test_robot_reaches_a_goal_clicked_in_the_browser(browser, viewer):
     """Whole stack: pose estimate and goal clicked in the page; the simulated robot arrives.
 
     nav-bringup starts its own simulator (no ``sim`` fixture: two simulators would publish two
-    clocks and two robots' TF) and no initial pose, which the page's "2D Pose Estimate" gives."""
+    clocks and two robots' TF) and no initial pose, which the page's "2D Pose Estimate" gives.
+
+    The clicks wait for "Nav2 is ready", as a user does: bt_navigator rejects a goal while it is not
+    active yet, as Nav2's does (CI run CQ: the goal was clicked while the loaded machine was still
+    bringing the stack up, and the robot never moved)."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
-    stack = start_python("nav_stack.ros.bringup", ["--no-initial-pose"])
+    stack = Bringup("--no-initial-pose")
     try:
+        stack.wait_for_line(READY, timeout=240.0)
         page = browser.new_page(viewport={"width": 1280, "height": 800})
         page.goto(viewer.url)
         page.wait_for_function("() => viewer.drawn.map && viewer.drawn.truth", timeout=WAIT * 2000)
@@ -266,4 +272,4 @@ def test_robot_reaches_a_goal_clicked_in_the_browser(browser, viewer):
         ARTIFACTS.mkdir(exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "viewer_browser_arrival.png"))
     finally:
-        stop_process(stack)
+        stack.stop()
