@@ -7,7 +7,8 @@ s or space  stop,  q or Ctrl-C  quit. Targets are clamped to the model's limits 
 
 Interactive mode puts the terminal in raw mode (restored on exit). ``--keys wwwad`` replays keys
 instead, one per period, then publishes a stop and exits (for tests and scripts; it first waits up to
-SUBSCRIBER_WAIT for a cmd_vel subscriber, since messages sent before discovery are lost).
+SUBSCRIBER_WAIT for a cmd_vel subscriber, since messages sent before discovery are lost, and on exit up
+to ACK_WAIT for its last commands to be acknowledged).
 ``cmd_vel`` is Twist, or TwistStamped with ``-p enable_stamped_cmd_vel:=true`` (Nav2's name).
 """
 
@@ -30,7 +31,12 @@ ANGULAR_STEP = 0.1  # rad/s per key press (ANG_VEL_STEP_SIZE)
 # m/s, rad/s: ROBOTIS' TurtleBot3 specs; tb4: the Create 3's safe-mode speed and the TB4 manual's turn rate
 LIMITS = {"waffle": (0.26, 1.82), "waffle_pi": (0.26, 1.82), "burger": (0.22, 2.84), "tb4": (0.306, 1.90)}
 QUIT_KEYS = ("q", "\x03")
-SUBSCRIBER_WAIT = 5.0  # wall s --keys waits for a cmd_vel subscriber before replaying
+SUBSCRIBER_WAIT = 10.0  # wall s --keys waits for a cmd_vel subscriber before replaying
+#: wall s the exit waits for the subscribers to acknowledge the last commands (the stop among them):
+#: a reliable message still unacknowledged when the process ends is lost, and the robot drives on
+#: (a subscriber that has not matched this publisher yet asks for it once it has). Fast DDS collects
+#: the acknowledgements at its heartbeat period, so the exit usually takes the whole wait.
+ACK_WAIT = 2.0
 HELP = """Control your TurtleBot3!
 ---------------------------
         w
@@ -102,6 +108,7 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``nav-teleop``; ROS arguments after ``--ros-args``."""
     import rclpy
+    from rclpy.duration import Duration
     from rclpy.node import Node
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
@@ -133,6 +140,9 @@ def main(argv: list[str] | None = None) -> int:
             deadline = time.monotonic() + SUBSCRIBER_WAIT
             while cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
                 pause()  # a replay sent before discovery is lost
+            if cmd.publisher.get_subscription_count() == 0:
+                print(f"nav-teleop: no cmd_vel subscriber after {SUBSCRIBER_WAIT:.0f} s; replaying anyway "
+                      "(is the simulator running, on this ROS_DOMAIN_ID?)", file=sys.stderr)
             for key in args.keys:
                 state.press(key)
                 cmd.publish(state.linear, state.angular)
@@ -144,6 +154,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         cmd.stop()
         pause()  # let the stop leave before the node goes
+        cmd.publisher.wait_for_all_acked(Duration(seconds=ACK_WAIT))
         executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown()
