@@ -131,12 +131,12 @@ async def acknowledged(node: Any, client: Any, goal: Any, sends: int,
     return answer
 
 
-def cancel_if_accepted(future: Future) -> None:
+def cancel_if_accepted(future: Future) -> Future | None:
     """Done callback for a ``send_goal_async`` future whose goal is no longer wanted: cancel the goal
-    if the server accepted it (its acknowledgement was still on the way when the caller gave up)."""
-    handle = future.result()
-    if handle is not None and handle.accepted:
-        handle.cancel_goal_async()
+    if the server accepted it (its acknowledgement was still on the way when the caller gave up).
+    The cancel request's future; None when there was nothing to cancel (rejected, or no answer)."""
+    handle = future.result() if future.exception() is None else None
+    return handle.cancel_goal_async() if handle is not None and handle.accepted else None
 
 
 class Withdrawals:
@@ -164,8 +164,7 @@ class Withdrawals:
             return not self._unsettled
 
     def _on_answer(self, copy: Future) -> None:
-        handle = copy.result() if copy.exception() is None else None
-        cancel = handle.cancel_goal_async() if handle is not None and handle.accepted else None
+        cancel = cancel_if_accepted(copy)
         with self._lock:
             self._unsettled.remove(copy)
             if cancel is not None:
