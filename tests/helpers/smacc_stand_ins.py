@@ -46,6 +46,10 @@ class RecordingPublisher:
     def publish(self, msg: Any) -> None:
         self.messages.append(msg)
 
+    def get_subscription_count(self) -> int:
+        """One: someone always listens to a recording."""
+        return 1
+
 
 class BaseCmdVel:
     """Stands in for ClNav2Z's CmdVelPublisher: hands each (vx, wz) to the fake base as a Twist."""

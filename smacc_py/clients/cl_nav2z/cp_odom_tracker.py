@@ -3,11 +3,17 @@
 Subscribes nav_msgs/Odometry on ``/odom`` (sensor-data QoS, best effort, which also matches reliable
 publishers) and feeds ``OdomPath``; publishes the working path on ``odom_tracker_path`` and the
 whole stack on ``odom_tracker_stacked_path`` (nav_msgs/Path, frame ``odom_frame``) at most every
-``publish_period_s``.
+``publish_period_s``, and only while someone subscribes to it.
+
+Why the care: the path grows by one pose per odometry message (about 1,200 over the seed mission),
+and building a PoseStamped for every pose of both paths at each publish grew to 30 ms of wall time
+per publish by the mission's end: the state machine's longest lockstep holds, slowing the whole
+simulation (bench_mission). Each pose's PoseStamped is now built once and reused.
 """
 
 from __future__ import annotations
 
+from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path
 from rclpy.qos import qos_profile_sensor_data
 
@@ -33,6 +39,7 @@ class CpOdomTracker(ISmaccComponent):
         self.publish_period_s = publish_period_s
         self._last_publish_s = -1e9
         self.last_pose: Pose2D | None = None
+        self._pose_msgs: dict[Pose2D, PoseStamped] = {}  # recorded pose -> its message, reused
 
     def on_initialize(self) -> None:
         ctx = ros_context(self.sm)
@@ -56,14 +63,21 @@ class CpOdomTracker(ISmaccComponent):
                 self.publish()
 
     def publish(self) -> None:
-        """Publish the working and stacked paths now."""
-        self._path_pub.publish(self._path_msg(self.paths.path()))
-        self._stacked_pub.publish(self._path_msg(self.paths.stacked_path()))
+        """Publish the working and stacked paths now (each only if someone subscribes to it)."""
+        known, self._pose_msgs = self._pose_msgs, {}
+        if self._path_pub.get_subscription_count() > 0:
+            self._path_pub.publish(self._path_msg(self.paths.path(), known))
+        if self._stacked_pub.get_subscription_count() > 0:
+            self._stacked_pub.publish(self._path_msg(self.paths.stacked_path(), known))
 
-    def _path_msg(self, poses: list[Pose2D]) -> Path:
-        msg = Path(header=make_header(self.odom_frame, self.sm.now()))
-        msg.poses = [make_pose_stamped(self.odom_frame, *pose) for pose in poses]
-        return msg
+    def _path_msg(self, poses: list[Pose2D], known: dict[Pose2D, PoseStamped]) -> Path:
+        """A Path of ``poses``, reusing the messages of ``known``; keeps the messages it used for the next
+        publish (the poses dropped from the paths since are forgotten)."""
+        kept = self._pose_msgs
+        for pose in poses:
+            if pose not in kept:
+                kept[pose] = known.get(pose) or make_pose_stamped(self.odom_frame, *pose)
+        return Path(header=make_header(self.odom_frame, self.sm.now()), poses=[kept[pose] for pose in poses])
 
     # SMACC2 API, snake_case
     def set_working_mode(self, mode: WorkingMode) -> None:
