@@ -10,7 +10,8 @@ benchmarks parse them).
 Process side: the console options (``add_console_arguments``), the stack's command line
 (``bringup_command``) and ``run_against_stack`` (launcher, signals, startup failure, the stack's
 problems on a failed run, shutdown). In-process side: ``machine_runtime`` (the machine on its own rclpy
-context) and ``wait_for_end``. rclpy is imported only once a machine runs, so ``--help`` stays quick.
+context, built before the stack starts so that DDS discovery overlaps the stack's bringup), ``running``
+and ``wait_for_end``. rclpy is imported only once a machine runs, so ``--help`` stays quick.
 """
 
 from __future__ import annotations
@@ -172,6 +173,23 @@ def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | No
             runtime.shutdown()
         if context.ok():
             rclpy.shutdown(context=context)
+
+
+@contextmanager
+def running(runtime: SmaccRuntime) -> Iterator[SmaccRuntime]:
+    """``runtime`` spinning in a background thread and started for the block; shut down when it ends.
+
+    Why not leave the shutdown to ``machine_runtime``: the demos build the runtime before the stack
+    (so DDS discovers the machine while the stack comes up) and the stack stops before that block
+    ends. Stopping the machine here, at the mission's end, cancels its goals while the stack still
+    runs to answer.
+    """
+    runtime.spin_in_background()
+    runtime.start()
+    try:
+        yield runtime
+    finally:
+        runtime.shutdown()
 
 
 def mission_sim_s(runtime: SmaccRuntime) -> float:

@@ -20,12 +20,17 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
 from smacc_py.state_machines import stack_run
+
+if TYPE_CHECKING:
+    from smacc_py.ros.runtime import SmaccRuntime
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
 #: sim2d's battery drained as in the seed (2 % per metre): a real waffle's would last two hours.
@@ -77,19 +82,23 @@ class PatrolObserver(SmaccObserver):
             self.finished.set()
 
 
-def run_patrol(options: argparse.Namespace, session: stack_run.StackSession) -> int:
-    """Run the machine until the cycles are done, a timeout, Ctrl-C or the stack's death."""
+def patrol_runtime(options: argparse.Namespace) -> AbstractContextManager[SmaccRuntime]:
+    """SmBatteryPatrol's runtime with the command's parameters file and thresholds (``machine_runtime``)."""
     from smacc_py.state_machines.sm_battery_patrol import SmBatteryPatrol
 
-    say = session.out.say
     thresholds = {name: float(getattr(options, name)) for name in ("low_threshold", "charged_threshold")
                   if getattr(options, name) is not None}
+    return stack_run.machine_runtime(SmBatteryPatrol, options.params_file, thresholds)
+
+
+def run_patrol(options: argparse.Namespace, session: stack_run.StackSession, runtime: SmaccRuntime) -> int:
+    """Run the machine (built, not started) until the cycles are done, a timeout, Ctrl-C or the stack's
+    death."""
+    say = session.out.say
     wall_start = time.monotonic()
-    with stack_run.machine_runtime(SmBatteryPatrol, options.params_file, thresholds) as runtime:
-        observer = PatrolObserver(say, options.cycles)
-        runtime.sm.add_observer(observer)
-        runtime.spin_in_background()
-        runtime.start()
+    observer = PatrolObserver(say, options.cycles)
+    runtime.sm.add_observer(observer)
+    with stack_run.running(runtime):
         end = stack_run.wait_for_end(session, observer.finished.is_set, wall_start + options.timeout)
         sm = runtime.sm
         visits = sm.get_global_sm_data(VISITS_KEY, [])
@@ -115,10 +124,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
     use_sim_params = options.sim_params is not None and not options.bringup
     sim_params = ["--sim-params", str(options.sim_params)] if use_sim_params else []
-    return stack_run.run_against_stack(options, StackConsole(options.verbose, "patrol"), "SmBatteryPatrol",
-                                       lambda session: run_patrol(options, session),
-                                       extra_args=[*sim_params, *options.bringup_arg],
-                                       ready_note="the stack is ready; its logs: {log_dir}/<process>.log")
+    console = StackConsole(options.verbose, "patrol")
+    with patrol_runtime(options) as runtime:  # built first: discovered while the stack comes up
+        return stack_run.run_against_stack(options, console, "SmBatteryPatrol",
+                                           lambda session: run_patrol(options, session, runtime),
+                                           extra_args=[*sim_params, *options.bringup_arg],
+                                           ready_note="the stack is ready; its logs: {log_dir}/<process>.log")
 
 
 if __name__ == "__main__":

@@ -21,11 +21,15 @@ import os
 import sys
 import time
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 from smacc_py.state_machines import stack_run
 from smacc_py.state_machines.sm_nav2_test_1.mission import MissionObserver, summary
+
+if TYPE_CHECKING:
+    from smacc_py.ros.runtime import SmaccRuntime
 
 MACHINE = "SmDanceBot"
 INITIAL_LEAF = "StAcquireSensors"
@@ -67,16 +71,13 @@ def dance_report(sm: object, observer: MissionObserver) -> list[str]:
     return [f"[demo] loops: {counts}", f"[demo] recovery mode: entered {entered}, left {left}"]
 
 
-def run_dance(options: argparse.Namespace, session: stack_run.StackSession) -> int:
-    """Run SmDanceBot until StFinalState, a timeout, Ctrl-C or the stack's death; the exit code."""
-    from smacc_py.state_machines.sm_dance_bot import SmDanceBot
-
+def run_dance(options: argparse.Namespace, session: stack_run.StackSession, runtime: SmaccRuntime) -> int:
+    """Run SmDanceBot (built, not started) until StFinalState, a timeout, Ctrl-C or the stack's death;
+    the exit code."""
     say = session.out.say
-    with stack_run.machine_runtime(SmDanceBot) as runtime:
-        observer = MissionObserver(say)
-        runtime.sm.add_observer(observer)
-        runtime.spin_in_background()
-        runtime.start()
+    observer = MissionObserver(say)
+    runtime.sm.add_observer(observer)
+    with stack_run.running(runtime):
         mission_start = time.monotonic()
         end = stack_run.wait_for_end(session, observer.finished.is_set, mission_start + options.timeout)
         sm = runtime.sm
@@ -103,9 +104,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     options = parse_args(argv)
     support = ProcessSpec("dance_support", support_command(options), ready=READY_LINE)
     ready_note = "the stack is ready ({elapsed:.1f} s); its logs: {log_dir}/"
-    return stack_run.run_against_stack(options, StackConsole(options.verbose, "demo"), MACHINE,
-                                       lambda session: run_dance(options, session), companions=[support],
-                                       ready_note=ready_note)
+    from smacc_py.state_machines.sm_dance_bot import SmDanceBot
+
+    with stack_run.machine_runtime(SmDanceBot) as runtime:  # built first: discovered while the stack comes up
+        return stack_run.run_against_stack(options, StackConsole(options.verbose, "demo"), MACHINE,
+                                           lambda session: run_dance(options, session, runtime),
+                                           companions=[support], ready_note=ready_note)
 
 
 if __name__ == "__main__":

@@ -127,16 +127,19 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     out = StackConsole(options.verbose, "demo", StatusLine(sys.stdout, period=0.5))
 
-    def mission(session: StackSession) -> int:
-        from smacc_py.state_machines.sm_nav2_test_1.mission import run_mission
-
-        if options.report is not None:
-            options.report.parent.mkdir(parents=True, exist_ok=True)
-            session.launcher.start([recorder_spec(options.report)])
-        return run_mission(options, session)
+    from smacc_py.state_machines.sm_nav2_test_1.mission import mission_runtime, run_mission
 
     try:
-        return run_against_stack(options, out, "SmNav2Test1", mission)
+        # The machine is built first: DDS discovers its node while the stack comes up, not after.
+        with mission_runtime(options) as runtime:
+
+            def mission(session: StackSession) -> int:
+                if options.report is not None:
+                    options.report.parent.mkdir(parents=True, exist_ok=True)
+                    session.launcher.start([recorder_spec(options.report)])
+                return run_mission(options, session, runtime)
+
+            return run_against_stack(options, out, "SmNav2Test1", mission)
     finally:  # after the stack's shutdown, which closed the recording
         if options.report is not None and options.report.with_suffix(".mcap").exists():
             write_run_report(options.report, out.say)

@@ -11,6 +11,8 @@ import argparse
 import threading
 import time
 from collections.abc import Callable
+from contextlib import AbstractContextManager
+from typing import TYPE_CHECKING
 
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
 from smacc_py.state_machines.stack_run import (
@@ -19,8 +21,12 @@ from smacc_py.state_machines.stack_run import (
     StackSession,
     machine_runtime,
     mission_sim_s,
+    running,
     wait_for_end,
 )
+
+if TYPE_CHECKING:
+    from smacc_py.ros.runtime import SmaccRuntime
 
 FINAL_STATE = "StFinalState"
 
@@ -61,31 +67,38 @@ def summary(
     ]
 
 
-def run_mission(options: argparse.Namespace, session: StackSession) -> int:
+def mission_runtime(options: argparse.Namespace) -> AbstractContextManager[SmaccRuntime]:
+    """SmNav2Test1's runtime with the command's parameters file and waypoints (``machine_runtime``)."""
+    from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1
+
+    waypoints = {name.replace("waypoint", "waypoint_"): getattr(options, name)
+                 for name in ("waypoint1", "waypoint2") if getattr(options, name) is not None}
+    return machine_runtime(SmNav2Test1, options.params_file, waypoints)
+
+
+def run_mission(options: argparse.Namespace, session: StackSession, runtime: SmaccRuntime) -> int:
     """Run the machine until StFinalState, a timeout, Ctrl-C or the stack's death; returns the exit code.
 
-    On a terminal the console's live line shows the mission's status (smacc_py.ros.mission_status),
+    ``runtime`` (``mission_runtime``) is built but not started: the demo builds it before the stack,
+    so DDS discovers the machine while the stack comes up; ``running`` starts it and shuts it down. On
+    a terminal the console's live line shows the mission's status (smacc_py.ros.mission_status),
     redrawn every 0.1 s (wall).
     """
     from smacc_py.ros.mission_status import MissionStatus
     from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1
 
     say = session.out.say
-    waypoints = {name.replace("waypoint", "waypoint_"): getattr(options, name)
-                 for name in ("waypoint1", "waypoint2") if getattr(options, name) is not None}
-    with machine_runtime(SmNav2Test1, options.params_file, waypoints) as runtime:
-        observer = MissionObserver(say)
-        runtime.sm.add_observer(observer)
-        status = MissionStatus()
-        runtime.sm.add_observer(status)
-        assert isinstance(runtime.sm, SmNav2Test1)
-        config = runtime.sm.config
-        say(
-            f"[demo] mission: initial pose {config.initial_pose}, waypoint_1 {config.waypoint_1}, "
-            f"waypoint_2 {config.waypoint_2}"
-        )
-        runtime.spin_in_background()
-        runtime.start()
+    observer = MissionObserver(say)
+    runtime.sm.add_observer(observer)
+    status = MissionStatus()
+    runtime.sm.add_observer(status)
+    assert isinstance(runtime.sm, SmNav2Test1)
+    config = runtime.sm.config
+    say(
+        f"[demo] mission: initial pose {config.initial_pose}, waypoint_1 {config.waypoint_1}, "
+        f"waypoint_2 {config.waypoint_2}"
+    )
+    with running(runtime):
         mission_start = time.monotonic()
 
         def live() -> None:
