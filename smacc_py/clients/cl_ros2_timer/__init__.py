@@ -1,6 +1,8 @@
 """cl_ros2_timer: ``ClRos2Timer`` and the countdown behaviors posting ``EvTimer[Cb, Or]``.
 
 Timers run on the node clock, so under ``use_sim_time`` a 15 s countdown is 15 s of simulated time.
+They are ``ros_tools.runtime.timers`` periodic timers: rclpy's EventsExecutor can deliver one timer
+event several times, and a plain timer would then tick a countdown more than once at one sim time.
 """
 
 from __future__ import annotations
@@ -8,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from ros_tools.runtime.timers import create_periodic_timer
 from smacc_py.core import EvTimer, ISmaccClient, SmaccClientBehavior
 from smacc_py.ros.context import ros_context
 
@@ -16,8 +19,9 @@ class ClRos2Timer(ISmaccClient):
     """Creates node-clock timers for its behaviors (SMACC2's cl_ros2_timer client)."""
 
     def create_timer(self, period_s: float, callback: Callable[[], None]) -> Any:
-        """A node timer (node clock) calling ``callback`` every ``period_s`` s on the executor."""
-        return ros_context(self.sm).node.create_timer(period_s, callback)
+        """A node timer (node clock) calling ``callback`` every ``period_s`` s on the executor, once per
+        period however often the executor delivers its event."""
+        return create_periodic_timer(ros_context(self.sm).node, period_s, callback)
 
     def destroy_timer(self, timer: Any) -> None:
         """Stop and destroy a timer made by ``create_timer``."""

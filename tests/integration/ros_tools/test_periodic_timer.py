@@ -6,35 +6,15 @@ rcl's timer call (which moves the next call a period on, due or not), then the P
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
 from ros_tools.runtime.timers import create_periodic_timer
+from tests.helpers.timer_delivery import deliver, next_call_ns, wait_until_due
 
 PERIOD_S = 0.05
-
-
-def _wait_until_due(timer: Any) -> None:
-    for _ in range(500):  # at most 5 s: a safety net, the timer is due after PERIOD_S
-        if timer.is_ready():
-            return
-        time.sleep(0.01)
-    raise AssertionError("the timer never became due")
-
-
-def _next_call_ns(timer: Any) -> int:
-    """When the timer calls next (ns on its clock)."""
-    return int(timer.clock.now().nanoseconds + timer.time_until_next_call())
-
-
-def _deliver(timer: Any) -> None:
-    """One delivery of the timer's ready event, as rclpy's executors make it."""
-    with timer.handle:
-        timer.handle.call_timer()
-    timer.callback()
 
 
 def test_a_burst_of_deliveries_runs_the_callback_once_and_keeps_the_timer_on_its_grid(
@@ -44,13 +24,13 @@ def test_a_burst_of_deliveries_runs_the_callback_once_and_keeps_the_timer_on_its
     try:
         timer = create_periodic_timer(node, PERIOD_S, lambda: runs.append(1),
                                       clock=Clock(clock_type=ClockType.STEADY_TIME))
-        _wait_until_due(timer)
-        slot_ns = _next_call_ns(timer)  # the due call's time on the timer's grid
+        wait_until_due(timer)
+        slot_ns = next_call_ns(timer)  # the due call's time on the timer's grid
         for _ in range(5):  # one due event, delivered five times
-            _deliver(timer)
+            deliver(timer)
         assert len(runs) == 1
         # the next call is within a period of the due one, not five periods out
-        assert slot_ns < _next_call_ns(timer) <= slot_ns + 2 * timer.timer_period_ns
+        assert slot_ns < next_call_ns(timer) <= slot_ns + 2 * timer.timer_period_ns
     finally:
         node.destroy_node()
 
@@ -62,9 +42,9 @@ def test_a_plain_timer_shows_the_fault_the_guard_removes(ros_context: Any) -> No
     try:
         timer = node.create_timer(PERIOD_S, lambda: runs.append(1),
                                   clock=Clock(clock_type=ClockType.STEADY_TIME))
-        _wait_until_due(timer)
+        wait_until_due(timer)
         for _ in range(5):
-            _deliver(timer)
+            deliver(timer)
         assert len(runs) == 5
         assert timer.time_until_next_call() > 4 * timer.timer_period_ns
     finally:
