@@ -37,6 +37,7 @@ import uuid
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -50,6 +51,10 @@ DEFAULT_CPUS = 1.0  # CPUs a task asks for: about one core per mission (stack + 
 MAX_RETRIES = 1  # Ray re-runs a task whose worker died this many times
 POLL = 0.5  # wall s between the driver's looks at finished tasks and newly started ones
 Runner = Callable[[Job, DomainPool, str], Outcome]
+#: The running task's attempt record (the ObjectRef of its ``AttemptLedger.begin``), for a runner that
+#: ends its own process on purpose: it must wait for the record first, or the re-run cannot know it is
+#: one (the record is sent asynchronously; on a busy machine it took over a second to arrive).
+RUNNING_ATTEMPT: ContextVar[Any] = ContextVar("navsuite_running_attempt", default=None)
 
 
 def require_ray() -> Any:
@@ -86,12 +91,14 @@ def run_on_node(job: Job, domains: tuple[int, int], marker: str, ledger: Any,
     sweep(marker)  # a dead earlier attempt's processes on this node, still on a domain id they lost
     node_dir = Path(tempfile.gettempdir()) / f"navsuite-scenario-{marker.replace(':', '-')}"
     shutil.rmtree(node_dir, ignore_errors=True)
+    token = RUNNING_ATTEMPT.set(attempt)
     try:
         with _interruptible():
             outcome = runner(replace(job, artifact_dir=node_dir), DomainPool(*domains), marker)
         return {"outcome": outcome.to_json(), "attempt": ray.get(attempt), "node_dir": str(node_dir),
                 "archive": pack(node_dir)}
     finally:
+        RUNNING_ATTEMPT.reset(token)
         shutil.rmtree(node_dir, ignore_errors=True)
 
 

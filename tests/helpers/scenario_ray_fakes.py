@@ -9,7 +9,6 @@ the directory goes with the cluster).
 from __future__ import annotations
 
 import os
-import time
 from pathlib import Path
 
 from ros_tools.scenarios.domains import DomainPool
@@ -18,9 +17,20 @@ from ros_tools.scenarios.verdict import Outcome
 from tests.helpers.ray_cluster import TAG
 
 DIES_ONCE = "short_goal"  # this scenario's first attempt dies; any other scenario's every attempt does
-#: wall s a dying attempt lives: a real worker dies into its run, after its start reached the ledger actor
-#: (a message sent asynchronously, lost if the process ends within milliseconds)
-LIFETIME = 1.0
+
+
+def die_once_filed() -> None:
+    """End this worker process once the ledger has filed this attempt, as a real worker that dies
+    into its run would. A fixed lifetime (1 s wall) raced the record: CI run DC lost it, and the re-run
+    counted itself as the first attempt."""
+    import ray
+
+    from ros_tools.scenarios.cluster import RUNNING_ATTEMPT
+
+    attempt = RUNNING_ATTEMPT.get()
+    if attempt is not None:
+        ray.get(attempt)
+    os._exit(1)
 
 
 def dying_runner(job: Job, domains: DomainPool, marker: str) -> Outcome:
@@ -29,8 +39,7 @@ def dying_runner(job: Job, domains: DomainPool, marker: str) -> Outcome:
     flag = Path(os.environ[TAG]) / f"died-{marker.replace(':', '-')}"
     if job.scenario.name != DIES_ONCE or not flag.exists():
         flag.touch()
-        time.sleep(LIFETIME)
-        os._exit(1)
+        die_once_filed()
     flag.unlink()
     job.artifact_dir.mkdir(parents=True, exist_ok=True)
     log = job.artifact_dir / "worker.log"
