@@ -6,7 +6,8 @@
   Child processes started by tests inherit both variables.
 * Launches started by tests write their process logs to a directory of this session
   (NAVSUITE_LOG_DIR, a fresh temporary directory per worker), not to the user's artifacts/logs: two
-  test workers running the stack at once would otherwise write the same files.
+  test workers running the stack at once would otherwise write the same files. Each test gets its
+  own subdirectory (``_log_dir_per_test``), named in the report of a failed test.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
 * After every test that shut an rclpy context down, nodes whose context was shut down are destroyed
   (``_release_dds_participants``): a node outliving its context keeps that context's DDS participant
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 import fcntl
 import os
+import re
 import tempfile
 from collections.abc import Iterator
 from typing import Any
@@ -53,7 +55,37 @@ if "NAVSUITE_TEST_DOMAIN_ID" in os.environ:
 else:
     os.environ["ROS_DOMAIN_ID"] = str(_claim_domain_id())
 # per process (each xdist worker has its own): a directory inherited from the controller would be shared
-os.environ["NAVSUITE_LOG_DIR"] = tempfile.mkdtemp(prefix=f"navsuite-logs-{os.environ['ROS_DOMAIN_ID']}-")
+_SESSION_LOG_DIR = tempfile.mkdtemp(prefix=f"navsuite-logs-{os.environ['ROS_DOMAIN_ID']}-")
+os.environ["NAVSUITE_LOG_DIR"] = _SESSION_LOG_DIR
+
+
+def _test_log_dir(item: pytest.Item) -> str:
+    """``<session log dir>/<test file>/<test name>``, with characters a path would trip on replaced."""
+    module, _, name = item.nodeid.partition("::")
+    safe = [re.sub(r"[^A-Za-z0-9_.-]+", "_", part)[:120] for part in (module, name or "_")]
+    return os.path.join(_SESSION_LOG_DIR, *safe)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """Point NAVSUITE_LOG_DIR at this test's own directory before its fixtures start anything.
+
+    Why: with one directory per worker, the next test's stack overwrote ``sim2d.log`` and the other
+    process logs of a failed one, and with them the evidence (CI run DD, 2026-11-28). A stack a
+    module-scoped fixture starts logs under the directory of the module's first test.
+    """
+    os.environ["NAVSUITE_LOG_DIR"] = _test_log_dir(item)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
+    """Name the process-log directory of the test's module in the report of a failed test."""
+    report = yield
+    if report.failed:
+        module_dir = os.path.dirname(_test_log_dir(item))
+        if os.path.isdir(module_dir):
+            report.sections.append(("process logs", f"{module_dir}/<test name>/<process>.log"))
+    return report
 
 
 @pytest.fixture
