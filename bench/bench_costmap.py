@@ -9,9 +9,10 @@
 * global incremental: the same map, one 360-beam scan into the obstacle layer; only the touched
   window (plus two inflation radii) is recomputed.
 
-Inflation runs compiled (inflation_jit), as the costmap nodes run it; the global updates are also
-timed with the numpy reference (inflation_layer.inflate) in the same run, and the ratio of the
-medians recorded, since absolute times follow the machine's load (noted in each row).
+Inflation and ray clearing run compiled (inflation_jit, raytrace_jit), as the costmap nodes run them;
+the global updates are also timed with the numpy reference inflation (inflation_layer.inflate), and the
+local one with the numpy reference ray clearing (raytrace.clear_rays), in the same run, and the ratios
+of the medians recorded, since absolute times follow the machine's load (noted in each row).
 
 Run: ``.venv/bin/python -m bench.bench_costmap`` (``--no-record`` to only print).
 """
@@ -31,8 +32,10 @@ from nav_stack.core.costmap import (
     LayeredCostmap,
     ObstacleLayer,
     StaticLayer,
+    raytrace,
 )
 from nav_stack.core.costmap.inflation_layer import Inflate, inflate
+from nav_stack.core.costmap.raytrace import ClearRays
 from nav_stack.core.grid import GridSpec
 
 
@@ -57,9 +60,13 @@ def load_note(note: str = "") -> str:
     return ", ".join(part for part in (note, f"load {os.getloadavg()[0]:.1f}") if part)
 
 
-def local_costmap(bench: Benchmark) -> None:
+def local_costmap(bench: Benchmark, clear_rays: ClearRays | None, suffix: str = "") -> float:
+    """Rolling local costmap updates, one scan each; their median (s).
+
+    ``clear_rays``: None for the compiled ray clearing, or the reference; ``suffix`` names it in the rows.
+    """
     local_params = CostmapParams.local_defaults()
-    obstacle = ObstacleLayer(local_params)
+    obstacle = ObstacleLayer(local_params, clear_rays=clear_rays)
     local = LayeredCostmap(local_params, [obstacle, InflationLayer()])
     scan = ring_scan(1.2)
     step = [0]
@@ -70,8 +77,10 @@ def local_costmap(bench: Benchmark) -> None:
         obstacle.add_scan(scan, pose)
         local.update(pose)
 
-    stats = bench.time("local costmap update per scan", local_update, repeat=200, warmup=10)
-    bench.record("local costmap update per scan (3x3 m, 360 beams, rolling)", stats, "ms", 1e3, load_note())
+    stats = bench.time(f"local costmap update per scan{suffix}", local_update, repeat=200, warmup=10)
+    bench.record(f"local costmap update per scan (3x3 m, 360 beams, rolling){suffix}", stats, "ms", 1e3,
+                 load_note())
+    return stats.median
 
 
 def global_costmap(bench: Benchmark, inflation: Inflate | None, suffix: str = "") -> tuple[float, float]:
@@ -111,7 +120,10 @@ def global_costmap(bench: Benchmark, inflation: Inflate | None, suffix: str = ""
 def main() -> None:
     parse_cli(__doc__)
     bench = Benchmark("costmap")
-    local_costmap(bench)
+    local_fast = local_costmap(bench, None)
+    local_ref = local_costmap(bench, raytrace.clear_rays, ", numpy reference ray clearing")
+    bench.record_value("local costmap update per scan: reference / compiled ray clearing (medians)",
+                       local_ref / local_fast, "x", "same scans, same run")
     compiled = global_costmap(bench, None)
     reference = global_costmap(bench, inflate, ", numpy reference inflation")
     for update, ref, fast in zip(("full update", "incremental update"), reference, compiled, strict=True):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 
-from nav_stack.core.costmap import inflation_jit
+from nav_stack.core.costmap import inflation_jit, raytrace_jit
 from nav_stack.core.planning import grid_search_jit, theta_star_jit
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
 
@@ -21,6 +21,7 @@ KERNELS = {
     "grid search (NavFn A*/Dijkstra)": grid_search_jit.warm_up,
     "Theta*": theta_star_jit.warm_up,
     "costmap inflation": inflation_jit.warm_up,
+    "costmap ray clearing": raytrace_jit.warm_up,
     "SLAM map update": integrate_jit.warm_up,
     "SLAM pose-graph solve": pose_graph_jit.warm_up,
 }

@@ -20,7 +20,7 @@ from nav_stack.core.costmap.footprint import Footprint
 from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window, shifted
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.costmap.params import CostmapParams, ObstacleLayerParams
-from nav_stack.core.costmap.raytrace import trace_cells
+from nav_stack.core.costmap.raytrace import ClearRays
 from nav_stack.core.grid import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
 
 
@@ -34,7 +34,18 @@ class ObstacleLayer(Layer):
     """Keeps a grid of seen obstacles and free space, fed by laser scans."""
 
     def __init__(self, costmap_params: CostmapParams, params: ObstacleLayerParams | None = None,
-                 name: str = "obstacle_layer") -> None:
+                 name: str = "obstacle_layer", clear_rays: ClearRays | None = None) -> None:
+        """``clear_rays``: None for the compiled clearing (raytrace_jit), or raytrace.clear_rays, the
+        numpy reference, which gives the same grid (tests/unit/nav_stack/test_costmap_jit.py).
+
+        numba is imported here, not with the package: AMCL and SLAM import the package for LaserScan.
+        """
+        if clear_rays is None:
+            from nav_stack.core.costmap import raytrace_jit
+
+            raytrace_jit.warm_up()  # compile or load it now (configure), not in the first scan's update
+            clear_rays = raytrace_jit.clear_rays
+        self._clear_rays = clear_rays
         self.name = name
         self.params = params or ObstacleLayerParams()
         self.enabled = self.params.enabled
@@ -84,11 +95,9 @@ class ObstacleLayer(Layer):
         if p.clearing:
             for obs, lengths, angles, _ in beams:
                 origin = (obs.sensor_pose[0], obs.sensor_pose[1])
-                mx, my = trace_cells(spec, origin, np.minimum(lengths, p.raytrace_max_range), angles,
-                                     p.raytrace_min_range)
-                grid[my, mx] = FREE_SPACE
-                ox, oy = spec.world_to_cell(origin[0], origin[1])
-                changed = changed.union(Window.around(np.append(mx, ox), np.append(my, oy)))
+                reach = np.minimum(lengths, p.raytrace_max_range)
+                freed = self._clear_rays(grid, spec, origin, reach, angles, p.raytrace_min_range, FREE_SPACE)
+                changed = changed.union(freed)
         if p.marking:
             for obs, lengths, angles, real in beams:
                 mark = real & (lengths < p.obstacle_max_range) & (lengths >= p.obstacle_min_range)

@@ -9,10 +9,16 @@ of cells Bresenham would visit.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
+from nav_stack.core.costmap.layer import CostArray, Window
 from nav_stack.core.grid import FloatArray, GridSpec, IntArray
+
+#: (grid, its spec, sensor origin (m), ray lengths (m), ray angles (rad), min length (m), cost to set)
+#: -> the window of cells set, with the origin's cell: :func:`clear_rays` or raytrace_jit.clear_rays
+ClearRays = Callable[[CostArray, GridSpec, tuple[float, float], FloatArray, FloatArray, float, int], Window]
 
 
 def grid_coords(spec: GridSpec, x: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -54,3 +60,13 @@ def trace_cells(
         keep &= (px != end_x) | (py != end_y)
     keep &= spec.in_bounds(px, py)
     return px[keep], py[keep]
+
+
+def clear_rays(grid: CostArray, spec: GridSpec, origin: tuple[float, float], lengths: FloatArray,
+               angles: FloatArray, min_length: float, value: int) -> Window:
+    """Set the cells :func:`trace_cells` gives (end cells left out) to ``value`` in ``grid``; the
+    smallest window holding them and the origin's cell. The numpy reference of raytrace_jit.clear_rays."""
+    mx, my = trace_cells(spec, origin, lengths, angles, min_length)
+    grid[my, mx] = value
+    ox, oy = spec.world_to_cell(origin[0], origin[1])
+    return Window.around(np.append(mx, ox), np.append(my, oy))

@@ -7,11 +7,12 @@ loaded 2-core machine, on the executor thread: the lifecycle manager declared th
 (no bond heartbeat for 4 s) and reset it, losing the map. Here a scan costs about 0.2 ms with its
 numpy preparation, a whole graph goes in one call, and rerender.py spreads a re-render over scans.
 
-The rules are raytrace.trace_cells' and LogOddsGrid's, in the same float64 / float32 arithmetic, so
-the grid is bit-identical (tests/unit/nav_stack/test_slam_map_update.py checks it): a ray from the
-sensor origin to each endpoint is sampled at ``ceil(2 * max(|dx|, |dy|)) + 1`` steps (cells), cells
-off the grid are skipped, a hit ray leaves out its end cell and a miss ray keeps it; per scan every
-cell changes at most once and an endpoint wins over a traversal.
+The rules are raytrace.trace_cells' (each ray walked by raytrace_jit's helpers) and LogOddsGrid's, in
+the same float64 / float32 arithmetic, so the grid is bit-identical (tests/unit/nav_stack/
+test_slam_map_update.py checks it): a ray from the sensor origin to each endpoint is sampled at
+``ceil(2 * max(|dx|, |dy|)) + 1`` steps (cells), cells off the grid are skipped, a hit ray leaves out
+its end cell and a miss ray keeps it; per scan every cell changes at most once and an endpoint wins
+over a traversal.
 
 Compiling takes seconds once per machine (scripts/compile_kernels.py does it at setup); the mapper
 calls :func:`warm_up` when it is built, so loading the cached code never lands in a scan callback.
@@ -24,6 +25,8 @@ import math
 import numpy as np
 import numpy.typing as npt
 from numba import njit
+
+from nav_stack.core.costmap.raytrace_jit import ray_sample, ray_steps
 
 F32 = npt.NDArray[np.float32]
 F64 = npt.NDArray[np.float64]
@@ -50,11 +53,10 @@ def _integrate(log_odds: F32, seen: npt.NDArray[np.bool_], stamp: I64, width: in
         for i in range(starts[s], starts[s + 1]):
             ex, ey = ends[i, 0], ends[i, 1]
             dx, dy = ex - ox, ey - oy
-            steps = math.ceil(max(abs(dx), abs(dy)) * 2.0) + 1  # numba: an int
+            steps = ray_steps(dx, dy)
             end_x, end_y = math.floor(ex), math.floor(ey)
             for k in range(steps + 1):
-                t = min(k / steps, 1.0)
-                px, py = math.floor(ox + dx * t), math.floor(oy + dy * t)
+                _, px, py = ray_sample(ox, oy, dx, dy, k, steps)
                 if not keep_end[i] and px == end_x and py == end_y:
                     continue
                 if px < 0 or px >= width or py < 0 or py >= height:

@@ -1,4 +1,5 @@
-"""The compiled inflation (inflation_jit, distance_jit) gives the numpy reference's costmaps cell for cell."""
+"""The compiled kernels (inflation_jit, distance_jit, raytrace_jit) give the numpy references' costmaps cell
+for cell."""
 
 from __future__ import annotations
 
@@ -17,8 +18,10 @@ from nav_stack.core.costmap import (
     ObstacleLayer,
     StaticLayer,
     inflation_layer,
+    raytrace,
+    raytrace_jit,
 )
-from nav_stack.core.grid import GridSpec
+from nav_stack.core.grid import FREE_SPACE, GridSpec
 
 
 def _random_occupancy(rng: np.random.Generator, width: int, height: int) -> np.ndarray:
@@ -40,10 +43,10 @@ def _random_scan(rng: np.random.Generator) -> LaserScan:
 
 def _costmap_pair(params: CostmapParams, inflation: InflationLayerParams, static: bool
                   ) -> list[tuple[LayeredCostmap, ObstacleLayer]]:
-    """The same costmap twice: compiled inflation, then the reference."""
+    """The same costmap twice: compiled inflation and ray clearing, then the references."""
     pair = []
-    for inflate in (None, inflation_layer.inflate):
-        obstacle = ObstacleLayer(params)
+    for inflate, clear_rays in ((None, None), (inflation_layer.inflate, raytrace.clear_rays)):
+        obstacle = ObstacleLayer(params, clear_rays=clear_rays)
         layers = [StaticLayer(params)] if static else []
         pair.append((LayeredCostmap(params, [*layers, obstacle, InflationLayer(inflation, inflate=inflate)]),
                      obstacle))
@@ -112,3 +115,35 @@ def test_compiled_inflation_gives_the_reference_rolling_costmap(seed: int) -> No
             obstacle.add_scan(scan, pose)
             costmap.update(pose)
         np.testing.assert_array_equal(pair[0][0].costs, pair[1][0].costs)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_compiled_ray_clearing_gives_the_reference_grid_and_window(seed: int) -> None:
+    """Random grids (some rotated), sensors on and off the grid, rays of every length, a minimum range."""
+    rng = np.random.default_rng(seed)
+    width, height = (int(n) for n in rng.integers(5, 90, size=2))
+    yaw = float(rng.choice([0.0, rng.uniform(-math.pi, math.pi)]))
+    spec = GridSpec(width, height, float(rng.choice([0.03, 0.05, 0.1])), -0.7, 0.4, yaw)
+    for _ in range(20):
+        origin = (float(rng.uniform(-2.0, 4.0)), float(rng.uniform(-1.0, 5.0)))
+        beams = int(rng.integers(0, 200))
+        lengths = rng.uniform(0.0, 5.0, beams)
+        lengths[rng.random(beams) < 0.1] = 0.0
+        angles = rng.uniform(-math.pi, math.pi, beams)
+        min_length = float(rng.choice([0.0, rng.uniform(0.0, 1.0)]))
+        start = rng.integers(0, 255, size=spec.shape, dtype=np.uint8)
+        compiled, reference = start.copy(), start.copy()
+        window = raytrace_jit.clear_rays(compiled, spec, origin, lengths, angles, min_length, FREE_SPACE)
+        expected = raytrace.clear_rays(reference, spec, origin, lengths, angles, min_length, FREE_SPACE)
+        np.testing.assert_array_equal(compiled, reference)
+        assert window == expected
+
+
+def test_ray_clearing_frees_the_beam_but_not_its_return_nor_the_minimum_range() -> None:
+    """One beam along +x from cell (1, 2) of a 1 m grid, 5 m long, clearing from 1.5 m on."""
+    grid = np.full((5, 8), 100, dtype=np.uint8)
+    window = raytrace_jit.clear_rays(grid, GridSpec(8, 5, 1.0), (1.5, 2.5), np.array([5.0]), np.array([0.0]),
+                                     1.5, FREE_SPACE)
+    assert np.flatnonzero(grid[2] == FREE_SPACE).tolist() == [3, 4, 5]  # 2: under 1.5 m; 6: the return
+    assert (grid[[0, 1, 3, 4]] == 100).all()
+    assert (window.x0, window.y0, window.x1, window.y1) == (1, 2, 6, 3)  # the sensor's cell included
