@@ -98,6 +98,11 @@ class Simulator:
         self.collision_count = 0
         self.collision_events.clear()
 
+    @property
+    def command_time_ns(self) -> int:
+        """Sim time (ns) of the last command taken; the robot brakes ``cmd_vel_timeout`` after it."""
+        return self._command_ns
+
     def command(self, v: float, w: float) -> None:
         """Set the target body velocity (m/s, rad/s); it holds until ``cmd_vel_timeout`` of sim time."""
         if not (math.isfinite(v) and math.isfinite(w)):

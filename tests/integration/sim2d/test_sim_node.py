@@ -185,8 +185,15 @@ def test_cmd_vel_moves_the_ground_truth_as_commanded(rig: Rig) -> None:
     x, y, yaw = rig.truth()
     assert y == pytest.approx(-0.5, abs=1e-6) and yaw == pytest.approx(0.0, abs=1e-6)
     assert rig.last("/ground_truth").twist.twist.linear.x == pytest.approx(0.2)
-    rig.wait_sim(1.5)                                  # watchdog: no commands → the robot stops
-    assert rig.last("/ground_truth").twist.twist.linear.x == 0.0
+    # The watchdog: cmd_vel_timeout (0.5 s) after the last command the sim took, the robot brakes at
+    # 1 m/s², so it stands 0.7 s of sim time after that command. Counted from the command, not from
+    # the end of _drive: commands still queued in DDS reach the sim later on a busy machine.
+    rig.spin_until(lambda: rig.last("/ground_truth").twist.twist.linear.x == 0.0, "the robot to stop")
+    last_command = rig.sim.sim.command_time_ns * 1e-9
+    stopped = min(_sim_time(m.header.stamp) for m in rig.received["/ground_truth"]
+                  if _sim_time(m.header.stamp) > last_command and m.twist.twist.linear.x == 0.0)
+    slack = 3 * 0.005 + 1.0 / 30.0  # physics steps of rounding, one ground truth period (30 Hz)
+    assert 0.5 + 0.2 <= stopped - last_command <= 0.5 + 0.2 + slack
     _drive(rig, 0.0, 1.0, lambda: rig.truth()[2] > 0.5, "robot to turn left")
     assert rig.truth()[0] > x
 
