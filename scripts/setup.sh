@@ -64,7 +64,9 @@ installed=$(cat "$deps_stamp" 2>/dev/null || true)
 if [ "$installed" != "$deps_key" ] && [ "$installed" != "$deps_key[cluster]" ]; then
   echo "setup: installing Python dependencies into $VENV (ROS 2 Jazzy wheels, numpy, pymunk, dev tools${extras:+, Ray})"
   "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --upgrade "pip>=25.1"
-  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+  # --no-compile: Python compiles a module's bytecode when it is first imported, so only the modules
+  # the project uses get compiled, not all of Ray, numba and the dev tools (45 s against 59 s here).
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-compile \
       --editable ".$extras" --group dev --group interfaces 2>&1 | { grep -v "is ignored: it is neither a file nor a directory" || true; }
   echo "$deps_key" > "$deps_stamp"
 fi
