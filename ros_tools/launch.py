@@ -240,7 +240,8 @@ class Launcher:
         self._stop.set()
 
     def shutdown(self) -> None:
-        """Stop every process in reverse start order: SIGINT, then SIGTERM, then SIGKILL."""
+        """Stop every process in reverse start order: SIGINT, then SIGTERM, then SIGKILL; return once
+        every line they wrote has been read (``output`` has seen them all)."""
         for sig, grace in ((signal.SIGINT, self._grace), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
             alive = [r for r in reversed(self.running) if r.proc.poll() is None]
             if not alive:
@@ -252,6 +253,7 @@ class Launcher:
                 time.sleep(0.05)
         for running in self.running:
             running.proc.wait()
+            running.drain()
 
     @contextlib.contextmanager
     def stopping_on_signals(self) -> Iterator[threading.Event]:

@@ -139,6 +139,11 @@ def run_against_stack(options: argparse.Namespace, out: StackConsole, machine: s
         out.say(f"{prefix} {ready_note.format(elapsed=elapsed, log_dir=log_dir)}")
         code = mission(session)
         if code not in (EXIT_SUCCESS, EXIT_INTERRUPTED):
+            # The warning that explains a failure (bt_navigator's "goal failed") is written before the
+            # result reaches the machine, but it may still be in the pipes (two hops: the stack's
+            # launcher, then ours): on a busy machine it came after this list was printed (CI run DJ).
+            # Stopping the stack first reads every line it wrote.
+            launcher.shutdown()
             out.show_problems(log_dir)
         return code
     finally:

@@ -139,3 +139,20 @@ def test_a_slow_start_prints_live_status_lines(monkeypatch):
     waiting = [line for line in lines if line.startswith("[launch] waiting for slow:")]
     assert len(waiting) >= 2 and "of 20 s (until it prints 'up')" in waiting[0]
     assert any(line.startswith("[launch] slow is ready (") for line in lines)
+
+
+def test_shutdown_returns_once_every_line_the_processes_wrote_has_been_read():
+    """The demo prints the stack's last warnings after a failed run; the one that explains the failure
+    may still be in a pipe when the run ends (CI run DJ), so shutdown reads everything first."""
+    lines: list[str] = []
+
+    def slow_output(line: str) -> None:  # a reader thread slower than the process's exit
+        time.sleep(0.3)
+        lines.append(line)
+
+    launcher = Launcher(output=slow_output, color=False, shutdown_grace=2.0)
+    body = ("import signal, sys, time; print('ready'); "
+            "signal.signal(signal.SIGINT, lambda *_: (print('goodbye'), sys.exit(0))); time.sleep(30)")
+    launcher.start([ProcessSpec("polite", script(body), ready="ready")])
+    launcher.shutdown()
+    assert "[polite] goodbye" in lines
