@@ -7,7 +7,8 @@
 * Launches started by tests write their process logs to a directory of this session
   (NAVSUITE_LOG_DIR, a fresh temporary directory per worker), not to the user's artifacts/logs: two
   test workers running the stack at once would otherwise write the same files. Each test gets its
-  own subdirectory (``_log_dir_per_test``), named in the report of a failed test.
+  own subdirectory (``_test_log_dir``, set by ``pytest_runtest_setup``), named in the report of a
+  failed test.
 * The ``ros_context`` fixture gives each rclpy test its own context, shut down in ``finally``.
 * After every test that shut an rclpy context down, nodes whose context was shut down are destroyed
   (``_release_dds_participants``): a node outliving its context keeps that context's DDS participant
