@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO
 
+from ros_tools.dds import keep_dds_local
+
 _COLORS = ["\033[36m", "\033[33m", "\033[35m", "\033[32m", "\033[34m", "\033[31m"]
 _RESET = "\033[0m"
 _PR_SET_PDEATHSIG = 1
@@ -94,7 +96,7 @@ class _Running:
             log_path.parent.mkdir(parents=True, exist_ok=True)
             log = log_path.open("w", encoding="utf-8", buffering=1)
         env = dict(os.environ, PYTHONUNBUFFERED="1", **spec.env)
-        env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        keep_dds_local(env)
         # A crash in native code (rclpy, Fast DDS, numba) leaves the Python stacks of every thread
         # in the process's log instead of a bare "Segmentation fault".
         env.setdefault("PYTHONFAULTHANDLER", "1")

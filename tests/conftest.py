@@ -27,6 +27,8 @@ from typing import Any
 
 import pytest
 
+from ros_tools.dds import keep_dds_local
+
 
 def _claim_domain_id() -> int:
     """Pick a ROS_DOMAIN_ID no other test session on this machine holds, and hold it.
@@ -50,7 +52,7 @@ def _claim_domain_id() -> int:
 
 
 _DOMAIN_LOCKS: list[object] = []
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+keep_dds_local()
 if "NAVSUITE_TEST_DOMAIN_ID" in os.environ:
     os.environ["ROS_DOMAIN_ID"] = os.environ["NAVSUITE_TEST_DOMAIN_ID"]
 else:

@@ -46,6 +46,7 @@ from typing import Any
 
 from nav_stack.ros.bringup_components import COMPONENT_READY, COMPONENTS, component_role, run_component
 from nav_stack.ros.robot_params import ROBOTS, params_for_robot
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument
 
 REPO = Path(__file__).resolve().parents[2]
@@ -239,7 +240,7 @@ def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None
 def main(argv: Sequence[str] | None = None) -> int:
     """Console entry ``nav-bringup``; ``component <name>`` runs one node process."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     if argv[:1] == ["component"]:
         sub = argparse.ArgumentParser(prog="nav-bringup component")
         sub.add_argument("name", choices=COMPONENTS)

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import signal
 import sys
 import time
@@ -28,6 +27,8 @@ from pathlib import Path
 from typing import Any
 
 import yaml
+
+from ros_tools.dds import keep_dds_local
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 SERVER_TIMEOUT = 30.0  # s (wall) to find the action server
@@ -267,7 +268,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         except ValueError as error:
             print(f"nav-goal: error: {error}", file=sys.stderr)
             return EXIT_USAGE
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     runner = GoalRunner(args.executor)
     try:
         command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]

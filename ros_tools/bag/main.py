@@ -22,6 +22,7 @@ import sys
 from pathlib import Path
 
 from ros_tools.bag.reader import BagError
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument
 
 
@@ -166,7 +167,7 @@ def main(argv: list[str] | None = None) -> int:
     if handler is None:
         parser.print_help(sys.stderr)
         return 1
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     # A background child inherits an ignored SIGINT; restore it so supervisors can stop us.
     signal.signal(signal.SIGINT, signal.default_int_handler)
     signal.signal(signal.SIGTERM, _raise_interrupt)

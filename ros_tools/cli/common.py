@@ -24,6 +24,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.utilities import try_shutdown
 
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import make_executor
 
 #: Minimum seconds list/info verbs listen to DDS discovery before answering (ros2cli's default).
@@ -142,7 +143,7 @@ def ros_session(executor_kind: str | None = None) -> Iterator[Session]:
     can then clean up (for example cancel a running action goal) while the context still works.
     ``executor_kind``: ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     context = Context()
     rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
     node = None

@@ -10,12 +10,12 @@ exit with 1; Ctrl-C (SIGINT) or SIGTERM ends streaming verbs with 0.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import sys
 
 from ros_tools.cli import action, interface, node, param, service, topic
 from ros_tools.cli.common import CliError, request_interrupt, ros_session
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument
 
 _GROUPS = (topic, node, service, action, param, interface)
@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     if handler is None:
         getattr(args, "help_parser", parser).print_help(sys.stderr)
         return 1
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     _interrupt_on_signals()
     try:
         if getattr(args, "offline", False):

@@ -10,13 +10,13 @@ DDS stays on this machine unless the user chose ROS_AUTOMATIC_DISCOVERY_RANGE th
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import threading
 import time
 from collections.abc import Sequence
 from typing import Any
 
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument, make_executor
 from ros_tools.viewer.hub import LayerHub
 from ros_tools.viewer.params import SIM_TIME_MODES, ViewerParams
@@ -114,7 +114,7 @@ def parse_args(argv: Sequence[str]) -> tuple[ViewerParams, list[str]]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     params, ros_args = parse_args(sys.argv[1:] if argv is None else argv)
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     import rclpy
 
     rclpy.init(args=["navsuite-viewer", *ros_args])

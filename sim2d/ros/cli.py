@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +25,7 @@ from typing import Any, NoReturn
 
 import yaml
 
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument, executor_kind
 from sim2d.core.robot import ROBOTS
 from sim2d.ros.config import ParamValue, SimConfig, build_config, coerce, defaults, load_params_file
@@ -165,7 +165,7 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     import rclpy
     from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter

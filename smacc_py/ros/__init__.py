@@ -1,9 +1,10 @@
 """ROS 2 layer: nodes that translate messages, declare parameters and schedule the core's work.
 
-Importing this package makes DDS discovery stay on this machine unless the user chose a range
-(ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET spans machines; see the README).
+Importing this package gives the process the suite's DDS settings unless the user chose their own
+(ros_tools.dds: discovery stays on this machine; ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET spans
+machines, see the README).
 """
 
-import os
+from ros_tools.dds import keep_dds_local
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+keep_dds_local()

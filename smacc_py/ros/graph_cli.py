@@ -7,12 +7,13 @@ with tags, orthogonals with their behaviors, reactors, generators).
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+from ros_tools.dds import keep_dds_local
+
+keep_dds_local()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -14,13 +14,14 @@ which would shut the context down first, is off.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import sys
 from collections.abc import Sequence
 from types import FrameType
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+from ros_tools.dds import keep_dds_local
+
+keep_dds_local()
 
 
 def _interrupt(signum: int, frame: FrameType | None) -> None:

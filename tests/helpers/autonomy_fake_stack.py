@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import signal
 import threading
 
+from ros_tools.dds import keep_dds_local
+
 
 def main() -> int:
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     import rclpy
     from rclpy.context import Context
     from sensor_msgs.msg import BatteryState

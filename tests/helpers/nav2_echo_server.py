@@ -8,8 +8,9 @@ crossed the process boundary intact. It prints "ready" once the server exists.
 
 from __future__ import annotations
 
-import os
 import sys
+
+from ros_tools.dds import keep_dds_local
 
 FEEDBACK_STEPS = 5
 #: Not Nav2's "navigate_to_pose": a stack left running by another test must not answer our goals.
@@ -17,7 +18,7 @@ ACTION_NAME = "echo_navigate_to_pose"
 
 
 def main() -> int:
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     import rclpy
     from nav2_msgs.action import NavigateToPose
     from rclpy.executors import ExternalShutdownException

@@ -48,6 +48,8 @@ from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
+from ros_tools.dds import keep_dds_local
+
 TICK_S = 0.01
 START_S = 1000.0
 NAV_SPEED = 1.0  # m/s of sim time a navigate_to_pose goal "drives" at
@@ -279,10 +281,9 @@ class FakeNav2:
 def main() -> int:
     """Run FakeNav2 as a process (stands in for ``nav-bringup`` in demo tests); prints "Nav2 is ready"."""
     import argparse
-    import os
     import signal
 
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    keep_dds_local()
     import rclpy
     from rclpy.context import Context
 

@@ -8,12 +8,13 @@ subscriber does not acknowledge the key within ``--wait`` s.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from collections.abc import Sequence
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+from ros_tools.dds import keep_dds_local
+
+keep_dds_local()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -15,7 +15,6 @@ Examples::
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import threading
 import time
@@ -24,8 +23,7 @@ from contextlib import AbstractContextManager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-
+from ros_tools.dds import keep_dds_local
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
 from smacc_py.state_machines import stack_run
 
@@ -119,6 +117,7 @@ def run_patrol(options: argparse.Namespace, session: stack_run.StackSession, run
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    keep_dds_local()  # before the machine's node: Fast DDS reads the settings once
     from ros_tools.console import StackConsole
 
     options = parse_args(argv)

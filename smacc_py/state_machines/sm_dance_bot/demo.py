@@ -17,14 +17,12 @@ Examples::
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-
+from ros_tools.dds import keep_dds_local
 from smacc_py.state_machines import stack_run
 from smacc_py.state_machines.sm_nav2_test_1.mission import MissionObserver, summary
 
@@ -97,6 +95,7 @@ def run_dance(options: argparse.Namespace, session: stack_run.StackSession, runt
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    keep_dds_local()  # before the machine's node: Fast DDS reads the settings once
     from ros_tools.console import StackConsole
     from ros_tools.launch import ProcessSpec
     from smacc_py.state_machines.sm_dance_bot.support_nodes import READY_LINE

@@ -17,14 +17,15 @@ Stops on SIGINT or SIGTERM.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import sys
 from collections.abc import Sequence
 from types import FrameType
 from typing import Any
 
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+from ros_tools.dds import keep_dds_local
+
+keep_dds_local()
 
 READY_LINE = "support nodes ready"
 LED_STATE_TOPIC = "/led_state"

@@ -24,16 +24,13 @@ artifacts/demo_report.png by default, ``--report PATH`` elsewhere, ``--no-report
 from __future__ import annotations
 
 import argparse
-import os
 import re
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from ros_tools.dds import keep_dds_local
 from ros_tools.launch import ProcessSpec
-
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-
 from smacc_py.state_machines.stack_run import (
     StackSession,
     add_console_arguments,
@@ -121,6 +118,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    keep_dds_local()  # before the machine's node: Fast DDS reads the settings once
     options = parse_args(argv)
     from ros_tools.console import StackConsole
     from ros_tools.status_line import StatusLine
