@@ -89,27 +89,59 @@ def send_until_acknowledged(client: Any, goal: Any, timeout: float, wait: Wait =
     Why: see :mod:`.requests` (a response dropped while the server still matches the client; a
     request that reaches a reader still matching can be dropped the same way). Each copy carries a
     new goal id; a copy acknowledged after the first is canceled if accepted, so that it cannot
-    preempt the first. Every copy's (future, goal id) is appended to ``copies``, so that a caller
-    interrupted before the acknowledgement can cancel what the server accepted. TimeoutError after
-    ``timeout`` s (wall).
+    preempt the first. ``feedback_callback`` hears only the acknowledged copy: the server may run
+    another copy for a while before its cancel arrives (CI run DS: a second run's feedback
+    restarted at 4 m remaining in the first's list). Every copy's (future, goal id) is appended to
+    ``copies``, so that a caller interrupted before the acknowledgement can cancel what the server
+    accepted. TimeoutError after ``timeout`` s (wall).
     """
     from unique_identifier_msgs.msg import UUID
 
     copies = [] if copies is None else copies
+    feedback = None if feedback_callback is None else _FeedbackOfOneCopy(feedback_callback)
     answered = lambda: any(future.done() for future, _ in copies)  # noqa: E731
     deadline = time.monotonic() + timeout
     while (left := deadline - time.monotonic()) > 0:
         goal_id = UUID(uuid=list(os.urandom(16)))
-        copies.append((client.send_goal_async(goal, feedback_callback=feedback_callback,
-                                              goal_uuid=goal_id), goal_id))
+        copies.append((client.send_goal_async(goal, feedback_callback=feedback, goal_uuid=goal_id), goal_id))
         if wait(answered, min(ACK_RETRY_S, left)):
-            first = next(future for future, _ in copies if future.done())
+            first, first_id = next((future, copy_id) for future, copy_id in copies if future.done())
+            if feedback is not None:
+                feedback.choose(first_id)
             for extra, _ in copies:
                 if extra is not first:
                     extra.add_done_callback(cancel_if_accepted)
             return first
     raise TimeoutError(f"'{client._action_name}' did not acknowledge the goal within {timeout:.0f} s "
                        f"({len(copies)} copies sent)")
+
+
+class _FeedbackOfOneCopy:
+    """A feedback callback that passes on the feedback of one goal id, chosen once its copy was
+    acknowledged; feedback that arrives before the choice waits for it (thread-safe: the executor
+    may spin in another thread than the sender's)."""
+
+    def __init__(self, callback: Callable[[Any], None]) -> None:
+        self._callback = callback
+        self._lock = threading.Lock()
+        self._chosen: bytes | None = None
+        self._early: list[Any] = []
+
+    def __call__(self, msg: Any) -> None:
+        with self._lock:  # held while passing on: feedback keeps its order across the choice
+            if self._chosen is None:
+                self._early.append(msg)
+            elif bytes(msg.goal_id.uuid) == self._chosen:
+                self._callback(msg)
+
+    def choose(self, goal_id: Any) -> None:
+        """Pass on ``goal_id``'s feedback from now on, starting with what arrived before."""
+        with self._lock:
+            self._chosen = bytes(goal_id.uuid)
+            early, self._early = self._early, []
+            for msg in early:
+                if bytes(msg.goal_id.uuid) == self._chosen:
+                    self._callback(msg)
 
 
 async def acknowledged(node: Any, client: Any, goal: Any, sends: int,
