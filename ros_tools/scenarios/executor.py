@@ -41,6 +41,8 @@ MARKER = "NAVSUITE_SCENARIO_RUN"
 KILL_AFTER = 30.0
 #: wall s a worker has after SIGTERM (its launcher's own SIGINT grace is 10 s) before SIGKILL
 STOP_GRACE = 20.0
+#: wall s sweep waits for the processes it killed to leave /proc
+SWEEP_WAIT = 2.0
 
 
 @dataclass(frozen=True)
@@ -127,10 +129,15 @@ def run_job(job: Job, domains: DomainPool, marker: str,
                  str(job.artifact_dir)],
                 stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True,
                 preexec_fn=_child_setup)
-            if on_spawn is not None:
-                on_spawn(proc)
-            killed = _wait(proc, hard_limit(job.scenario))
-        leftovers = sweep(marker)
+            try:
+                if on_spawn is not None:
+                    on_spawn(proc)
+                killed = _wait(proc, hard_limit(job.scenario))
+            finally:
+                # Before the domain id is released, and on an interrupt too: the worker's own stop
+                # does not wait for the stack processes it started (CI run DV found two of an
+                # interrupted Ray run alive after the farm had said all were stopped).
+                leftovers = sweep(marker)
     outcome = _read(result_file, proc.returncode)
     if killed:
         limit = hard_limit(job.scenario)
@@ -217,9 +224,13 @@ def processes_with_env(entry: str) -> list[int]:
 
 
 def sweep(marker: str) -> int:
-    """Kill every process still marked ``marker`` (SIGKILL); how many there were."""
+    """Kill every process still marked ``marker`` (SIGKILL) and return once they are gone (at most
+    SWEEP_WAIT s: a killed process leaves /proc when its parent reaps it); how many there were."""
     pids = marked_processes(marker)
     for pid in pids:
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.kill(pid, signal.SIGKILL)
+    deadline = time.monotonic() + SWEEP_WAIT
+    while pids and marked_processes(marker) and time.monotonic() < deadline:
+        time.sleep(0.02)
     return len(pids)
