@@ -35,7 +35,9 @@ _COLORS = ["\033[36m", "\033[33m", "\033[35m", "\033[32m", "\033[34m", "\033[31m
 _RESET = "\033[0m"
 _PR_SET_PDEATHSIG = 1
 #: Markers of the lines ``show_problems`` lets through: ROS log levels WARN and up, Python tracebacks.
-PROBLEM_MARKERS = ("[WARN]", "[ERROR]", "[FATAL]", "Traceback (most recent call last)", "Error: ", "error: ")
+#: " is waiting for ": a process that is not ready yet says what it waits for (nav-bringup's components).
+PROBLEM_MARKERS = ("[WARN]", "[ERROR]", "[FATAL]", "Traceback (most recent call last)", "Error: ", "error: ",
+                   " is waiting for ")
 LAST_LINES = 15  # lines of a dead process shown on the console
 
 

@@ -71,8 +71,9 @@ def _parser() -> argparse.ArgumentParser:
                         help="the simulated robot; also picks the default --params")
     parser.add_argument("--map", default=None,
                         help="map_server YAML (default: the --world's map, else from --params)")
-    parser.add_argument("--params", default=None,
-                        help="Nav2-style parameter file (default: the --robot's, nav_stack.ros.robot_params)")
+    parser.add_argument("--params", action="append", default=None, metavar="FILE",
+                        help="Nav2 parameter file, e.g. Nav2's own nav2_params.yaml (default: the --robot's, "
+                             "nav_stack.ros.robot_params); repeat it to apply overlays, later files winning")
     parser.add_argument("--sim-params", default=None,
                         help="sim2d parameter file applied over config/sim2d.yaml (e.g. "
                              "config/sim2d_battery_patrol.yaml)")
@@ -128,7 +129,7 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     parser = _parser()
     args = parser.parse_args(list(argv))
     own_params = args.params is not None
-    args.params = args.params or str(params_for_robot(args.robot))
+    args.params = args.params or [str(params_for_robot(args.robot))]
     _validate(args, parser)
     if args.isolated is None:
         args.isolated = _layout_is_isolated(parser) and not args.slam
@@ -149,8 +150,9 @@ def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None
         parser.error("--slam builds its own map: drop --map (or drop --slam to localize on a map)")
     if args.slam and args.isolated:
         parser.error("--slam always runs its nodes as separate processes: drop --isolated")
-    if not Path(args.params).is_file():
-        parser.error(f"--params: no such file: {args.params}")
+    for path in args.params:
+        if not Path(path).is_file():
+            parser.error(f"--params: no such file: {path}")
     if args.map is not None and not Path(args.map).is_file():
         parser.error(f"--map: no such file: {args.map}")
     if args.sim_params is not None and not Path(args.sim_params).is_file():
@@ -163,11 +165,29 @@ def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None
             parser.error(f"--rtf must be a positive number or 'max', got {args.rtf!r}")
 
 
+def check_params(args: argparse.Namespace) -> str | None:
+    """Why the parameter files cannot run on this stack (every problem, one message), or None.
+
+    Runs before any process starts, so a file naming a plugin or a server this stack lacks is refused
+    within a second instead of failing a node's configure later, one problem at a time.
+    """
+    from nav_stack.ros.bringup_plan import plan_bringup
+    from nav_stack.ros.config_check import ConfigError
+    from nav_stack.ros.param_files import ParamFileError
+
+    try:
+        plan_bringup(args.params, slam=args.slam)
+    except (ConfigError, ParamFileError) as error:
+        return str(error)
+    return None
+
+
 def process_specs(args: argparse.Namespace) -> list[Any]:
     """The ProcessSpecs of a launch, in start order."""
     from ros_tools.launch import ProcessSpec
 
-    params = str(Path(args.params).resolve())
+    params = [str(Path(p).resolve()) for p in args.params]
+    param_args = [arg for path in params for arg in ("--params", path)]
     map_args = ["--map", str(Path(args.map).resolve())] if args.map else []
     specs: list[ProcessSpec] = []
     components = ["navigation"] if args.slam else ["localization", "navigation"] if args.isolated else ["all"]
@@ -184,7 +204,7 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     def component(name: str) -> ProcessSpec:
         slam = ["--map-from-slam"] if args.slam else []
         return ProcessSpec(component_role(name), _python_module(
-            "nav_stack.ros.bringup", "component", name, "--params", params, *map_args, *slam),
+            "nav_stack.ros.bringup", "component", name, *param_args, *map_args, *slam),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout)
 
     initial_pose = ProcessSpec("initial_pose", _python_module(
@@ -244,14 +264,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     if argv[:1] == ["component"]:
         sub = argparse.ArgumentParser(prog="nav-bringup component")
         sub.add_argument("name", choices=COMPONENTS)
-        sub.add_argument("--params", default=str(DEFAULT_PARAMS))
+        sub.add_argument("--params", action="append", default=None, metavar="FILE")
         sub.add_argument("--map", default=None)
         sub.add_argument("--map-from-slam", action="store_true",
                          help="the map comes from SLAM: do not hold the simulator until it arrives")
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
-        return run_component(opts.name, opts.params, opts.map, opts.executor, opts.map_from_slam)
-    return launch(parse_args(argv))
+        return run_component(opts.name, opts.params or [str(DEFAULT_PARAMS)], opts.map, opts.executor,
+                             opts.map_from_slam)
+    args = parse_args(argv)
+    problem = check_params(args)
+    if problem:
+        print(f"nav-bringup: {problem}", file=sys.stderr, flush=True)
+        return 2
+    return launch(args)
 
 
 if __name__ == "__main__":

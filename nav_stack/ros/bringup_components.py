@@ -2,50 +2,78 @@
 
 A component is the set of Nav2-style nodes one process hosts on one executor, as Nav2's
 ``use_composition``: ``all`` (localization and navigation, the default), or ``localization`` and
-``navigation`` apart (``nav-bringup --isolated``, and ``navigation`` next to SLAM). The process takes
-part in lockstep under its role (``nav2`` for ``all``), prints COMPONENT_READY once its lifecycle
-managers are active (the launcher's readiness line), and ends with exit code 1 when a manager
-aborts its bringup.
+``navigation`` apart (``nav-bringup --isolated``, and ``navigation`` next to SLAM). Which servers it
+runs, and how their velocity commands chain, comes from the parameter files through
+nav_stack/ros/bringup_plan.py, as nav2_bringup's launch files decide it. The process takes part in
+lockstep under its role (``nav2`` for ``all``), prints COMPONENT_READY once its lifecycle managers
+are active (the launcher's readiness line), says every WAIT_REPORT_S what it still waits for, and
+ends with exit code 1 when a manager aborts its bringup.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from typing import Any
+
+from nav_stack.ros.bringup_plan import BOND_TIMEOUT, BringupPlan, ManagerPlan, plan_bringup
 
 COMPONENT_READY = "bringup: component {name} is active"
 COMPONENTS = ("localization", "navigation", "all")
+WAIT_REPORT_S = 5.0  # s (wall) between two "still waiting for" lines
 
 
-def _localization_nodes(kwargs: dict[str, Any], map_yaml: str | None) -> list[Any]:
+def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]:
+    """Node name → a function building that server (and the nodes it owns, e.g. its costmap)."""
     from rclpy.parameter import Parameter
 
-    from nav_stack.ros.amcl_node import AmclNode
-    from nav_stack.ros.lifecycle_manager import LifecycleManager
-    from nav_stack.ros.map_server import MapServer
-
-    overrides = [Parameter("yaml_filename", value=str(map_yaml))] if map_yaml else []
-    return [MapServer(parameter_overrides=overrides, **kwargs), AmclNode(**kwargs),
-            LifecycleManager("lifecycle_manager_localization", **kwargs)]
-
-
-def _navigation_nodes(kwargs: dict[str, Any]) -> list[Any]:
     from nav_stack.ros import (
+        amcl_node,
         behavior_server,
         bt_navigator,
         controller_server,
+        map_server,
         planner_server,
         waypoint_follower,
     )
+
+    overrides = [Parameter("yaml_filename", value=str(map_yaml))] if map_yaml else []
+    return {
+        "map_server": lambda: [map_server.MapServer(parameter_overrides=overrides)],
+        "amcl": lambda: [amcl_node.AmclNode()],
+        "controller_server": controller_server.build_nodes,
+        "planner_server": planner_server.build_nodes,
+        "behavior_server": behavior_server.build_nodes,
+        "bt_navigator": bt_navigator.build_nodes,
+        "waypoint_follower": waypoint_follower.build_nodes,
+    }
+
+
+def _manager_nodes(manager: ManagerPlan, builders: dict[str, Callable[[], list[Any]]]) -> list[Any]:
     from nav_stack.ros.lifecycle_manager import LifecycleManager
 
     nodes: list[Any] = []
-    for module in (planner_server, controller_server, behavior_server, bt_navigator, waypoint_follower):
-        nodes.extend(module.build_nodes(**kwargs))
-    nodes.append(LifecycleManager("lifecycle_manager_navigation", **kwargs))
+    for name in manager.node_names:
+        nodes.extend(builders[name]())
+    defaults = {"node_names": manager.node_names, "autostart": manager.autostart,
+                "bond_timeout": BOND_TIMEOUT}
+    nodes.append(LifecycleManager(manager.name, defaults=defaults))
     return nodes
 
 
-def run_component(name: str, params: str, map_yaml: str | None, executor: str | None = None,
+def waiting_for(managers: Sequence[Any], costmaps: Sequence[Any], clock_heard: bool,
+                map_needed: bool) -> list[str]:
+    """What a component that is not ready yet still waits for, one phrase per item."""
+    items = []
+    if not clock_heard:
+        items.append("/clock (no message yet: is the simulator running?)")
+    items += [f"{m.get_name()}: {m.step}" for m in managers if not m.system_active]
+    if map_needed:
+        items += [f"{c.get_name()}: the map on {c.resolve_topic_name('map')}" for c in costmaps
+                  if not c.has_map]
+    return items
+
+
+def run_component(name: str, params: Sequence[str], map_yaml: str | None, executor: str | None = None,
                   map_from_slam: bool = False) -> int:
     """Run the nodes of component ``name`` in this process; print COMPONENT_READY once its managers
     are active. The process is a lockstep participant named after the component, and holds the
@@ -54,22 +82,26 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
     runs (SLAM builds it from scans), so the process does not wait for it."""
     from rclpy.clock import Clock, ClockType
 
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from nav_stack.ros.costmap_ros import CostmapROS
     from nav_stack.ros.lifecycle_manager import LifecycleManager
+    from ros_tools.runtime.lockstep import clock_heard
     from ros_tools.runtime.runner import run_nodes
 
+    plan: BringupPlan = plan_bringup(params, slam=map_from_slam)
     managers: list[Any] = []
     costmaps: list[Any] = []
 
     def build() -> list[Any]:
+        builders = _server_builders(map_yaml)
         nodes: list[Any] = []
-        if name in ("localization", "all"):
-            nodes += _localization_nodes({}, map_yaml)
+        if name in ("localization", "all") and plan.localization.node_names:
+            nodes += _manager_nodes(plan.localization, builders)
         if name in ("navigation", "all"):
-            nodes += _navigation_nodes({})
+            nodes += _manager_nodes(plan.navigation, builders)
         managers.extend(node for node in nodes if isinstance(node, LifecycleManager))
         costmaps.extend(node for node in nodes if isinstance(node, CostmapROS))
+        for note in plan.notes:
+            managers[0].get_logger().info(note)
         return nodes
 
     def active() -> bool:
@@ -80,8 +112,13 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
 
     failed: list[str] = []
 
-    def announce_when_active(_executor: Any, nodes: Any) -> None:
+    def announce_when_ready(_executor: Any, nodes: Any) -> None:
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        started = steady.now().nanoseconds
+        last_report = [started]
+
         def announce() -> None:
+            now = steady.now().nanoseconds
             if active():
                 print(COMPONENT_READY.format(name=name), flush=True)
                 managers[0].destroy_timer(timer)
@@ -93,12 +130,21 @@ def run_component(name: str, params: str, map_yaml: str | None, executor: str | 
                       "(the node's error is above)", flush=True)
                 managers[0].destroy_timer(timer)
                 managers[0].context.try_shutdown()
+            elif now - last_report[0] >= WAIT_REPORT_S * 1e9:
+                last_report[0] = now
+                heard = clock_heard()
+                if heard is None:  # not in lockstep: a running simulator has moved the clock
+                    heard = managers[0].get_clock().now().nanoseconds > 0
+                items = waiting_for(managers, costmaps, heard, not map_from_slam)
+                print(f"bringup: component {name} is waiting for "
+                      f"{'; '.join(items) or 'its nodes'} ({(now - started) * 1e-9:.0f} s)", flush=True)
 
-        timer = managers[0].create_timer(0.2, announce, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        timer = managers[0].create_timer(0.2, announce, clock=steady)
 
-    rclpy_args = ["nav_bringup", "--ros-args", "--params-file", params, "-p", "use_sim_time:=true"]
+    rclpy_args = ["nav_bringup", "--ros-args", *[arg for f in params for arg in ("--params-file", str(f))],
+                  "-p", "use_sim_time:=true", *plan.ros_args()]
     code = run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
-                     ready=ready, on_start=announce_when_active)
+                     ready=ready, on_start=announce_when_ready)
     return 1 if failed else code
 
 

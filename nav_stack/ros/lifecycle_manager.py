@@ -102,10 +102,15 @@ class LifecycleManagerParams:
 class LifecycleManager(Node):
     """Brings a list of lifecycle nodes up and down and watches their bonds."""
 
-    def __init__(self, node_name: str = "lifecycle_manager", **kwargs: Any) -> None:
+    def __init__(self, node_name: str = "lifecycle_manager", defaults: dict[str, Any] | None = None,
+                 **kwargs: Any) -> None:
+        """``defaults`` replace LifecycleManagerParams defaults (not values a parameter file sets):
+        nav-bringup passes the node list and autostart, as Nav2's launch files do."""
         super().__init__(node_name, **kwargs)
         reentrant_default_group(self)
-        self.params = declare_dataclass(self, LifecycleManagerParams)
+        self.params = declare_dataclass(self, LifecycleManagerParams, **(defaults or {}))
+        self.step = "starting" if self.params.autostart else (  # what it does or awaits now
+            f"a STARTUP request on {self.get_name()}/manage_nodes (autostart is false)")
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._commands = Serializer()  # one command (or bond recovery) at a time
         self.system_active = False
@@ -163,10 +168,10 @@ class LifecycleManager(Node):
         if not (await self._all(Transition.TRANSITION_CONFIGURE)
                 and await self._all(Transition.TRANSITION_ACTIVATE)):
             self.get_logger().error("Failed to bring up all requested nodes. Aborting bringup.")
-            self.bringup_failed = True
+            self.bringup_failed, self.step = True, "bringup aborted"
             return False
         self._message("Managed nodes are active")
-        self.system_active, self.bringup_failed = True, False
+        self.system_active, self.bringup_failed, self.step = True, False, "active"
         return True
 
     async def pause(self) -> bool:
@@ -238,6 +243,7 @@ class LifecycleManager(Node):
                 return None
             if polls % 20 == 19:
                 self.get_logger().info(f"Waiting for service {client.srv_name}...")
+            self.step = f"waiting for the service {client.srv_name}"
             polls += 1
             await sleep(self, SERVICE_POLL_PERIOD, self._steady)
         response = await call_service(self, client, request, max(0.1, deadline - time.monotonic()),
@@ -258,6 +264,7 @@ class LifecycleManager(Node):
         if current == goal:
             return await self._bond(name) if transition == Transition.TRANSITION_ACTIVATE else True
         self._message(f"{LABEL[transition]} {name}")
+        self.step = f"{LABEL[transition].lower()} {name}"
         request = ChangeState.Request()
         request.transition.id = transition
         response = None if current is None else await self._call(self._change_state[name], request, quick,
@@ -288,6 +295,7 @@ class LifecycleManager(Node):
             return True
         since = self._steady_now()
         deadline = time.monotonic() + timeout / 2.0
+        self.step = f"waiting for {name}'s bond heartbeat on {BOND_TOPIC}"
         while self._heartbeats.get(name, -1.0) < since - BOND_CHECK_PERIOD:
             if time.monotonic() > deadline:
                 self.get_logger().error(f"Server {name} was unable to be reached after {timeout:.2f}s "

@@ -32,19 +32,22 @@ SLAM_NODES = ("slam", "map_saver")
 MANAGER_READY = r"Managed nodes are active"
 
 
-def slam_processes(params_file: str | Path, *, use_sim_time: bool = True,
+def slam_processes(params_file: str | Path | Sequence[str | Path], *, use_sim_time: bool = True,
                    extra_ros_args: Sequence[str] = (), python: str = sys.executable,
                    ready_timeout: float = 60.0) -> list[ProcessSpec]:
     """ProcessSpecs for SLAM mode, in start order; the caller starts them before the navigation servers.
 
     Args:
-        params_file: Nav2-style parameter file with a ``slam`` section (config/nav2_params.yaml).
+        params_file: Nav2-style parameter file with a ``slam`` section (config/nav2_params.yaml), or
+            several (later ones override earlier ones).
         use_sim_time: put every node on /clock (sim2d); false for a real robot.
         extra_ros_args: more ``--ros-args`` items for every node (e.g. ``-p``, remaps, log levels).
         python: interpreter to run the modules with.
         ready_timeout: wall seconds the manager may take to bring both nodes up.
     """
-    common = ["--params-file", str(params_file), "-p", f"use_sim_time:={str(use_sim_time).lower()}",
+    files = [params_file] if isinstance(params_file, str | Path) else list(params_file)
+    common = [*[arg for f in files for arg in ("--params-file", str(f))],
+              "-p", f"use_sim_time:={str(use_sim_time).lower()}",
               *extra_ros_args]
     # ``python -m nav_stack.ros.map_saver`` is map_saver_cli; the server is that module's main().
     saver = "import sys; from nav_stack.ros.map_saver import main; sys.exit(main())"

@@ -193,6 +193,14 @@ def hold_process(until: Callable[[], bool], grace: float = REQUEST_HOLD, wake: A
         participant.hold(until, grace, wake)
 
 
+def clock_heard() -> bool | None:
+    """Whether a /clock message reached this process's participants (None: it has none), for a
+    process that says what it waits for: a lockstep simulator sends /clock before its first step."""
+    if not _PROCESS_PARTICIPANTS:
+        return None
+    return any(participant._last_clock_ns >= 0 for participant in _PROCESS_PARTICIPANTS)
+
+
 def _released(until: Callable[[], bool]) -> bool:
     """``until()``, where an error (e.g. the entity it asks was destroyed) also ends the hold: an
     exception here would end this /clock callback, and with it every report of the process."""

@@ -116,6 +116,25 @@ def test_bad_options_exit_2_with_a_clear_message(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
+def test_a_file_the_stack_cannot_run_is_refused_before_any_process_starts(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 41: an unknown plugin ends bringup at once, every problem in one message naming the
+    file, section, key, value and the supported values; nothing is launched."""
+    bad = tmp_path / "bad_params.yaml"
+    bad.write_text(
+        "controller_server:\n  ros__parameters:\n    controller_plugins: [FollowPath]\n"
+        "    FollowPath: {plugin: 'my_controllers::Teleporter'}\n"
+        "behavior_server:\n  ros__parameters:\n    behavior_plugins: [spin, dance]\n"
+        "    dance: {plugin: 'my_behaviors::Dance'}\n")
+    monkeypatch.setattr(bringup, "launch", lambda args: pytest.fail("the launch must not start"))
+    assert bringup.main(["--params", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert f"{bad}: controller_server: FollowPath.plugin: 'my_controllers::Teleporter' is not a plugin " \
+           "this stack has (supported: DWBLocalPlanner" in err, err
+    assert f"{bad}: behavior_server: dance.plugin: 'my_behaviors::Dance'" in err, err
+    assert "2 setting(s) this stack cannot run" in err
+
+
 @pytest.mark.ros
 @pytest.mark.slow
 def test_bringup_exits_non_zero_when_the_simulator_is_killed():
