@@ -27,14 +27,15 @@ class CmdVelPublisher:
         self.frame_id = frame_id
         self.publisher = node.create_publisher(TwistStamped if stamped else Twist, topic, CMD_VEL_QOS)
 
-    def publish(self, vx: float, wz: float, stamp_ns: int | None = None) -> None:
-        """Publish (vx m/s, wz rad/s); a stamped command carries ``stamp_ns`` (node clock ns), else now.
+    def publish(self, vx: float, wz: float, stamp_ns: int | None = None, vy: float = 0.0) -> None:
+        """Publish (vx m/s, wz rad/s, and vy m/s for holonomic robots); a stamped command carries
+        ``stamp_ns`` (node clock ns), else now.
 
         A controller passes the nominal time of its cycle: sim2d applies a stamped command at stamp +
         ``stamped_cmd_vel_delay``, so the stamp, not the arrival, decides when it takes effect.
         """
         twist = Twist()
-        twist.linear.x, twist.angular.z = float(vx), float(wz)
+        twist.linear.x, twist.linear.y, twist.angular.z = float(vx), float(vy), float(wz)
         if not self.stamped:
             self.publisher.publish(twist)
             return

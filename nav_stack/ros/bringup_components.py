@@ -33,6 +33,7 @@ def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]
         controller_server,
         map_server,
         planner_server,
+        velocity_smoother,
         waypoint_follower,
     )
 
@@ -43,6 +44,7 @@ def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]
         "controller_server": controller_server.build_nodes,
         "planner_server": planner_server.build_nodes,
         "behavior_server": behavior_server.build_nodes,
+        "velocity_smoother": velocity_smoother.build_nodes,
         "bt_navigator": bt_navigator.build_nodes,
         "waypoint_follower": waypoint_follower.build_nodes,
     }

@@ -24,7 +24,7 @@ OPTIONAL_NODES = frozenset({"smoother_server", "velocity_smoother", "collision_m
 
 #: The servers this stack has (grows as servers are added).
 AVAILABLE_NODES = frozenset({"map_server", "amcl", "controller_server", "planner_server", "behavior_server",
-                             "bt_navigator", "waypoint_follower"})
+                             "velocity_smoother", "bt_navigator", "waypoint_follower"})
 
 #: Nav2 nodes a parameter file may configure that nav-bringup never starts: they are left alone,
 #: with a note in the log (Nav2's own file configures several of them for other launch files).

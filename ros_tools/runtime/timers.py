@@ -58,3 +58,16 @@ def create_periodic_timer(node: Node, period_s: float, callback: Callable[[], No
     due_only = _DueOnly(node, callback)
     due_only.timer = node.create_timer(period_s, due_only, clock=clock)
     return due_only.timer
+
+
+def nominal_call_ns(node: Node, timer: Any) -> int:
+    """The nominal time (ns, the timer's clock) of the call running now: its slot on the timer's grid.
+
+    Why not ``now``: under lockstep the clock may have moved on by a /clock message or two when the
+    callback runs, and how far depends on wall timing. The grid is fixed from the timer's creation
+    (as long as it is not reset), so cycle times, the stamps of the commands a cycle publishes and
+    with them the sim times at which sim2d applies stamped commands are the same on every run.
+    Call it from the timer's own callback.
+    """
+    now = node.get_clock().now().nanoseconds
+    return int(now + timer.time_until_next_call() - timer.timer_period_ns)
