@@ -31,6 +31,7 @@ def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]
         behavior_server,
         bt_navigator,
         controller_server,
+        docking_server,
         map_server,
         planner_server,
         velocity_smoother,
@@ -47,6 +48,7 @@ def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]
         "velocity_smoother": velocity_smoother.build_nodes,
         "bt_navigator": bt_navigator.build_nodes,
         "waypoint_follower": waypoint_follower.build_nodes,
+        "docking_server": docking_server.build_nodes,
     }
 
 

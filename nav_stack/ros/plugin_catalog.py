@@ -24,7 +24,7 @@ OPTIONAL_NODES = frozenset({"smoother_server", "velocity_smoother", "collision_m
 
 #: The servers this stack has (grows as servers are added).
 AVAILABLE_NODES = frozenset({"map_server", "amcl", "controller_server", "planner_server", "behavior_server",
-                             "velocity_smoother", "bt_navigator", "waypoint_follower"})
+                             "velocity_smoother", "bt_navigator", "waypoint_follower", "docking_server"})
 
 #: Nav2 nodes a parameter file may configure that nav-bringup never starts: they are left alone,
 #: with a note in the log (Nav2's own file configures several of them for other launch files).
@@ -70,6 +70,7 @@ COSTMAP_LAYERS = ("StaticLayer", "ObstacleLayer", "VoxelLayer", "InflationLayer"
 NAVIGATORS = ("NavigateToPoseNavigator", "NavigateThroughPosesNavigator")
 WAYPOINT_TASK_EXECUTORS = ("WaitAtWaypoint",)
 AMCL_MOTION_MODELS = ("DifferentialMotionModel", "OmniMotionModel")
+DOCKS = ("SimpleChargingDock", "SimpleNonChargingDock")
 
 _LAYER_DEFAULTS = (("static_layer", "StaticLayer"), ("obstacle_layer", "ObstacleLayer"),
                    ("voxel_layer", "VoxelLayer"), ("inflation_layer", "InflationLayer"))
@@ -95,6 +96,7 @@ PLUGIN_LISTS: tuple[PluginList, ...] = (
     PluginList("bt_navigator", "navigators", ("navigate_to_pose", "navigate_through_poses"), NAVIGATORS,
                (("navigate_to_pose", "NavigateToPoseNavigator"),
                 ("navigate_through_poses", "NavigateThroughPosesNavigator"))),
+    PluginList("docking_server", "dock_plugins", (), DOCKS),
     PluginList("waypoint_follower", "waypoint_task_executor_plugin", ("wait_at_waypoint",),
                WAYPOINT_TASK_EXECUTORS, (("wait_at_waypoint", "WaitAtWaypoint"),)),
 )

@@ -19,6 +19,7 @@ from nav_stack.ros.bt_nodes.actions import (
 )
 from nav_stack.ros.bt_nodes.conditions import RemovePassedGoals, SelectorTopics
 from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, code_name
+from nav_stack.ros.bt_nodes.docking import DockRobotAction, UndockRobotAction
 from nav_stack.ros.bt_nodes.services import ClearEntireCostmapService
 
 #: Nav2 BT node id -> leaf class
@@ -32,6 +33,8 @@ ROS_LEAVES: dict[str, type[TreeNode]] = {
     "Wait": WaitAction,
     "ClearEntireCostmap": ClearEntireCostmapService,
     "RemovePassedGoals": RemovePassedGoals,
+    "DockRobot": DockRobotAction,
+    "UndockRobot": UndockRobotAction,
 }
 
 

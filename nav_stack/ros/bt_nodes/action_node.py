@@ -89,6 +89,9 @@ class BtActionNode(StatefulActionNode):
         """Write output ports from a SUCCEEDED result."""
         return NodeStatus.SUCCESS
 
+    def on_aborted(self, result: Any) -> None:
+        """Called with the result of an aborted goal, before the leaf fails: write result outputs here."""
+
     def updated_goal(self) -> Any:
         """A replacement goal while the current one runs (e.g. a new path), else None."""
         return None
@@ -182,6 +185,7 @@ class BtActionNode(StatefulActionNode):
         if response.status == GoalStatus.STATUS_CANCELED:
             return NodeStatus.SUCCESS
         self.set_output("error_code_id", code)
+        self.on_aborted(result)
         return self._fail(str(getattr(result, "error_msg", "")) or "the goal was aborted", code)
 
     def on_halted(self) -> None:

@@ -9,6 +9,7 @@
 """
 
 from smacc_py.clients.cl_nav2z.cb_action_base import CbNav2ZActionBase
+from smacc_py.clients.cl_nav2z.cb_docking import CbDockRobot, CbUndockRobot
 from smacc_py.clients.cl_nav2z.cb_motion import (
     CbAbsoluteRotate,
     CbNavigateBackwards,
@@ -49,6 +50,7 @@ from smacc_py.clients.cl_nav2z.waypoints_io import Waypoint
 __all__ = [
     "CbAbortNavigation",
     "CbAbsoluteRotate",
+    "CbDockRobot",
     "CbNav2ZActionBase",
     "CbNavigateBackwards",
     "CbNavigateForward",
@@ -67,6 +69,7 @@ __all__ = [
     "CbSpin",
     "CbStopNavigation",
     "CbUndoPathBackwards",
+    "CbUndockRobot",
     "CbWaitNav2Nodes",
     "CbWaitPose",
     "CbWaitTransform",

@@ -26,7 +26,7 @@ from typing import Any
 from action_msgs.srv import CancelGoal
 from bond.msg import Status
 from geometry_msgs.msg import PoseStamped
-from nav2_msgs.action import BackUp, DriveOnHeading, FollowPath, NavigateToPose, Spin
+from nav2_msgs.action import BackUp, DockRobot, DriveOnHeading, FollowPath, NavigateToPose, Spin, UndockRobot
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from ros_tools.cmd_vel import CmdVelPublisher
@@ -44,6 +44,8 @@ SPIN = "spin"
 BACKUP = "backup"
 DRIVE_ON_HEADING = "drive_on_heading"
 FOLLOW_PATH = "follow_path"
+DOCK_ROBOT = "dock_robot"
+UNDOCK_ROBOT = "undock_robot"
 
 ACTION_TYPES: dict[str, Any] = {
     NAVIGATE_TO_POSE: NavigateToPose,
@@ -51,6 +53,8 @@ ACTION_TYPES: dict[str, Any] = {
     BACKUP: BackUp,
     DRIVE_ON_HEADING: DriveOnHeading,
     FOLLOW_PATH: FollowPath,
+    DOCK_ROBOT: DockRobot,
+    UNDOCK_ROBOT: UndockRobot,
 }
 
 #: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
