@@ -8,11 +8,12 @@ part of nav2_bringup's launch files:
   (plugin_catalog.NAVIGATION_NODES), without the optional servers (smoother, velocity smoother,
   collision monitor, docking) that the files do not configure. ``autostart`` is true. A file's
   own ``lifecycle_manager_*`` section overrides both, as a launch argument would in Nav2.
-* **The velocity chain**, by remapping as Nav2's launch does: controller_server, behavior_server and
-  docking_server publish ``cmd_vel`` remapped to ``cmd_vel_nav``; velocity_smoother reads
-  ``cmd_vel_nav`` and publishes ``cmd_vel_smoothed``; collision_monitor reads its
-  ``cmd_vel_in_topic`` and publishes ``cmd_vel``. When one of the two filters is left out, the chain
-  closes around it, so the robot always receives ``cmd_vel``.
+* **The velocity chain**, by remapping as Nav2's launch does: controller_server and behavior_server
+  publish ``cmd_vel`` remapped to ``cmd_vel_nav``; velocity_smoother reads ``cmd_vel_nav`` and
+  publishes ``cmd_vel_smoothed``; collision_monitor reads its ``cmd_vel_in_topic`` and publishes
+  ``cmd_vel``. When one of the two filters is left out, the chain closes around it, so the robot
+  always receives ``cmd_vel``. docking_server publishes ``cmd_vel`` directly: its last centimetres
+  end in contact with the dock, which the collision monitor exists to prevent.
 * **Checks**: every plugin type and every server the files ask for must exist in this stack
   (config_check); all problems are raised together in one ConfigError.
 
@@ -42,7 +43,7 @@ NAVIGATION_MANAGER = "lifecycle_manager_navigation"
 #: bond heartbeats run on the wall clock, and a loaded two-core CI machine stalled a process past 4 s.
 BOND_TIMEOUT = 10.0
 #: Nodes that publish velocity commands into the chain (Nav2's launch remaps their cmd_vel).
-CMD_VEL_PRODUCERS = ("controller_server", "behavior_server", "docking_server")
+CMD_VEL_PRODUCERS = ("controller_server", "behavior_server")
 #: Costmap and helper sections that belong to a server rather than being servers themselves.
 OWNED_SECTIONS = ("local_costmap/local_costmap", "global_costmap/global_costmap")
 
