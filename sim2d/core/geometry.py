@@ -127,6 +127,16 @@ class StaticGeometry:
         assert self.segments is not None
         return self.segments
 
+    def with_polygons(self, polygons: tuple[FloatArray, ...]) -> StaticGeometry:
+        """This geometry plus convex CCW ``polygons`` (m), whose edges the lidar sees as well.
+
+        Why not a new StaticGeometry from the parts: a map world passes only its occupied/free
+        boundary as ``segments``, which must stay as they are.
+        """
+        edges = [polygon_edges(p) for p in polygons]
+        return StaticGeometry(self.circles, self.boxes, self.polygons + tuple(polygons),
+                              np.concatenate([self.ray_segments, *edges]) if edges else self.ray_segments)
+
     def contains(self, points: FloatArray) -> BoolArray:
         """Which points (P, 2) lie inside (or on) any obstacle."""
         inside = np.zeros(len(points), dtype=bool)

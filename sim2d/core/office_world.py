@@ -17,6 +17,10 @@ doors test inflation and the controller, long halls test the planner, and column
 features in open space. A small floor gives a corridor (no columns); a large one gives an open
 depot floor with columns.
 
+``dock=True`` adds a charging dock (sim2d.core.dock, a Create 3 dock) against the west wall of the
+hall, facing west, 1 m south of the default spawn (less in a narrow hall): the robot's home, with
+its 0.7 m straight approach on open floor (columns keep 1.6 m from every wall).
+
 Deterministic: one ``np.random.Generator`` seeded with ``seed`` draws every random choice in a
 fixed order, and coordinates are rounded to millimetres, so the same (seed, width, height) gives
 the same world dict, and the same YAML, on every machine. Pure: numpy only; the dict is the
@@ -30,6 +34,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from sim2d.core.dock import CREATE3_DOCK
 
 Box = tuple[float, float, float, float]
 """Axis-aligned box (xmin, ymin, xmax, ymax) (m)."""
@@ -94,9 +100,10 @@ class OfficeLayout:
     columns: tuple[Box, ...]
     rooms: tuple[Room, ...]
     spawns: tuple[tuple[float, float, float], ...]
+    docks: tuple[tuple[str, tuple[float, float, float]], ...] = ()
 
     def world(self, name: str) -> dict[str, Any]:
-        """The world dict (``sim2d.core.world`` schema): outer ring, interior boxes, spawns.
+        """The world dict (``sim2d.core.world`` schema): outer ring, interior boxes, spawns, docks.
 
         The ring and the free region get separate vertex lists, so a YAML dump has no anchors.
         """
@@ -104,13 +111,18 @@ class OfficeLayout:
         inner = [[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]]
         ring = {"type": "ring", "vertices": [list(v) for v in inner], "thickness": self.wall_thickness}
         boxes = [{"type": "box", "min": [b[0], b[1]], "max": [b[2], b[3]]} for b in self.walls + self.columns]
-        return {"name": name, "free_region": inner, "spawns": [list(s) for s in self.spawns],
-                "obstacles": [ring, *boxes]}
+        world: dict[str, Any] = {"name": name, "free_region": inner, "spawns": [list(s) for s in self.spawns]}
+        if self.docks:
+            world["docks"] = [{"id": dock_id, "type": CREATE3_DOCK.name, "pose": list(pose)}
+                              for dock_id, pose in self.docks]
+        return {**world, "obstacles": [ring, *boxes]}
 
 
 def generate_office(width: float, height: float, seed: int,
-                    params: OfficeParams | None = None) -> OfficeLayout:
-    """An office of ``width`` × ``height`` (m, inside the outer walls) drawn from ``seed``.
+                    params: OfficeParams | None = None, dock: bool = False) -> OfficeLayout:
+    """An office of ``width`` × ``height`` (m, inside the outer walls) drawn from ``seed``; with
+    ``dock``, a charging dock ``home_dock`` near the default spawn (drawn after everything else, so
+    the rest of the office does not change).
 
     Raises:
         ValueError: the floor is too small for two rows of rooms and a hall.
@@ -139,7 +151,16 @@ def generate_office(width: float, height: float, seed: int,
     default = (round(-hx + 0.8, 3), hall_y, 0.0)  # west end of the hall, facing along it
     in_rooms = [(*r.centre, round(-math.pi / 2.0 if r.centre[1] > 0.0 else math.pi / 2.0, 4)) for r in rooms]
     spawns = (default, *in_rooms)  # every room centre, facing its door
-    return OfficeLayout(width, height, p.wall_thickness, tuple(walls), columns, tuple(rooms), spawns)
+    # contact pose 0.25 m off the west wall (the dock's body, up to 0.22 m ahead of it, fits for every robot)
+    south = min(DOCK_SPAWN_OFFSET, (hall[3] - hall[1]) / 2.0 - 0.4)
+    docks = ((DOCK_ID, (round(-hx + DOCK_WALL_OFFSET, 3), round(hall_y - south, 3), round(math.pi, 4))),)
+    return OfficeLayout(width, height, p.wall_thickness, tuple(walls), columns, tuple(rooms), spawns,
+                        docks if dock else ())
+
+
+DOCK_ID = "home_dock"
+DOCK_WALL_OFFSET = 0.25  # m from the west wall to the dock's contact pose
+DOCK_SPAWN_OFFSET = 1.0  # m south of the default spawn
 
 
 def _room_row(rng: np.random.Generator, p: OfficeParams, hx: float, hy: float, side: float,

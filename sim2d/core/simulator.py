@@ -2,8 +2,11 @@
 
 The caller owns time: ``step()`` advances exactly ``physics_step`` seconds; the ROS node decides how
 many steps to run per wall second (the real-time factor). Everything random comes from the injected
-generator, split into independent streams for the lidar and the odometry, so the same seed and the
-same command sequence give identical trajectories and scans, whatever the scan rate.
+generator, split into independent streams for the lidar, the odometry and the dock detector, so the
+same seed and the same command sequence give identical trajectories and scans, whatever the scan rate.
+
+Docks (sim2d.core.dock): their bodies, shaped for this robot, join the world's obstacles for collisions
+and the lidar; the battery charges on their contacts; ``detect_dock()`` reports a seen dock's tag.
 """
 
 from __future__ import annotations
@@ -16,7 +19,9 @@ import numpy as np
 from sim2d.core.battery import Battery, BatteryParams
 from sim2d.core.collision import CollisionModel, CollisionParams
 from sim2d.core.disturbances import DroppedObstacle, LidarDropout
-from sim2d.core.geometry import FloatArray, normalize_angle
+from sim2d.core.dock import Dock, dock_in_contact
+from sim2d.core.dock_detection import DockDetectionParams, DockDetector, TagDetection
+from sim2d.core.geometry import FloatArray, StaticGeometry, normalize_angle
 from sim2d.core.lidar import Lidar, LidarParams
 from sim2d.core.odometry import Odometry, OdometryParams
 from sim2d.core.robot import Pose2D, RobotModel, limit_velocity
@@ -59,14 +64,24 @@ class Simulator:
 
     def __init__(self, world: World, robot: RobotModel, params: SimParams, rng: np.random.Generator,
                  lidar: LidarParams | None = None, odometry: OdometryParams | None = None,
-                 battery: BatteryParams | None = None, collision: CollisionParams | None = None) -> None:
+                 battery: BatteryParams | None = None, collision: CollisionParams | None = None,
+                 dock_detection: DockDetectionParams | None = None) -> None:
         """Components left None take their defaults; the lidar takes the robot's own sensor."""
         self.world, self.robot, self.params = world, robot, params
         lidar_rng, odom_rng = rng.spawn(2)
-        self.lidar = Lidar(lidar or robot.lidar, world.geometry, lidar_rng)
+        (detection_rng,) = rng.spawn(1)   # a third stream: the first two are the same with or without docks
+        bodies = tuple(dock.body(robot) for dock in world.docks)
+        geometry = world.geometry.with_polygons(bodies)
+        self.lidar = Lidar(lidar or robot.lidar, geometry, lidar_rng)
         self.odometry = Odometry(odometry or OdometryParams(), odom_rng)
-        self.battery = Battery(battery or BatteryParams())
-        self.collision = CollisionModel(world.geometry, robot, collision or CollisionParams())
+        self.battery = Battery(battery or BatteryParams(), has_docks=bool(world.docks))
+        self.collision = CollisionModel(geometry, robot, collision or CollisionParams())
+        self.docks: tuple[Dock, ...] = world.docks
+        self.docked: Dock | None = None
+        self.detector = DockDetector(dock_detection or DockDetectionParams(), world.docks, detection_rng)
+        # what can hide dock i's tag: the world and every other dock's body (dropped obstacles join later)
+        self._occluders: list[StaticGeometry] = [world.geometry.with_polygons(bodies[:i] + bodies[i + 1:])
+                                                 for i in range(len(bodies))]
         self.step_ns = round(params.physics_step * 1e9)
         self.time_ns = 0
         self._timeout_ns = round(params.cmd_vel_timeout * 1e9)
@@ -94,6 +109,7 @@ class Simulator:
         self._command_ns = self.time_ns - self._timeout_ns - 1
         self.odometry.reset()
         self.battery.reset()
+        self.docked = None
         self.collision.in_contact = False
         self.collision_count = 0
         self.collision_events.clear()
@@ -129,9 +145,10 @@ class Simulator:
         """
         if not self.collision.add_circle(self.pose, obstacle.x, obstacle.y, obstacle.radius):
             return False
-        geometry = self.lidar.geometry
-        circles = np.vstack((geometry.circles, np.array([obstacle.as_row()], dtype=np.float64)))
-        self.lidar.geometry = replace(geometry, circles=circles)
+        row = np.array([obstacle.as_row()], dtype=np.float64)
+        lidar = self.lidar
+        lidar.geometry = replace(lidar.geometry, circles=np.vstack((lidar.geometry.circles, row)))
+        self._occluders = [replace(g, circles=np.vstack((g.circles, row))) for g in self._occluders]
         self.dropped.append(obstacle)
         return True
 
@@ -166,7 +183,8 @@ class Simulator:
         if (blocked or self.collision.in_contact) and self.collision.update_contact(self.pose, blocked):
             self.collision_count += 1
         self.v, self.w = v_new, w_new
-        self.battery.update(self.pose.x, self.pose.y, self.v, self.w, distance, dt)
+        self.docked = dock_in_contact(self.docks, self.pose) if self.docks else None
+        self.battery.update(self.pose.x, self.pose.y, self.v, self.w, distance, dt, self.docked is not None)
         self.time_ns += self.step_ns
 
     def scan_pose(self) -> Pose2D:
@@ -188,6 +206,14 @@ class Simulator:
         if self.dropout.active(self.time_ns):
             ranges[:] = np.inf
         return ranges
+
+    def detect_dock(self) -> TagDetection | None:
+        """The tag of the nearest dock the camera sees now, in base_link with noise, or None.
+
+        The noise stream advances only when a tag is reported, so without docks in sight nothing
+        else's randomness changes.
+        """
+        return self.detector.detect(self.pose, self.robot.base_link_z, tuple(self._occluders))
 
     def pop_collision_events(self) -> list[CollisionEvent]:
         """New contacts since the last call (the node publishes each once)."""

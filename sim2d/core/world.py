@@ -5,6 +5,9 @@ World YAML schema (all lengths m, angles rad, map frame)::
     name: turtlebot3_world
     free_region: [[x, y], ...]          # optional convex CCW polygon known free (map generation)
     spawns: [[x, y, yaw], ...]          # optional free poses; the first is the world's default
+    docks:                              # optional charging docks (sim2d/core/dock.py)
+      - {id: home_dock, type: create3_dock, pose: [x, y, yaw]}   # pose: the CONTACT pose of base_link
+        # optional per dock: contact_tolerance (m), contact_yaw_tolerance (rad); default: the type's
     obstacles:
       - {type: circle, center: [x, y], radius: r}
       - {type: polygon, vertices: [[x, y], ...]}                 # convex, counter-clockwise
@@ -13,8 +16,13 @@ World YAML schema (all lengths m, angles rad, map frame)::
       - {type: ring, vertices: [[x, y], ...], thickness: t}      # wall outside a convex CCW polygon
 
 A map_server YAML (recognised by its ``image`` key) loads as a world whose occupied cells are the
-obstacles; it has no free_region and no spawns. Errors name the file and the field, e.g.
-``worlds/x.yaml: obstacles[2].radius: ...``; a spawn inside an obstacle is such an error too.
+obstacles; it has no free_region, no spawns and no docks. Errors name the file and the field, e.g.
+``worlds/x.yaml: obstacles[2].radius: ...``; a spawn or a dock's contact pose inside an obstacle is such
+an error too.
+
+Docks are not part of ``geometry``: their bodies depend on the robot model (sim2d.core.dock), the
+simulator adds them to its collision and lidar geometry, and a map generated from the world leaves
+them out, as a real dock is usually not in the map.
 ``check_spawn`` refuses a robot pose that overlaps an obstacle, so a bad ``--x/--y`` fails at startup
 instead of leaving the robot stuck inside a wall.
 """
@@ -29,9 +37,11 @@ from typing import Any
 import numpy as np
 import yaml
 
+from sim2d.core.dock import DOCK_TYPES, Dock
 from sim2d.core.geometry import FloatArray, StaticGeometry, is_convex_ccw, regular_polygon, ring_pieces
 from sim2d.core.grid_shapes import map_to_geometry
 from sim2d.core.map_io import load_map
+from sim2d.core.robot import Pose2D
 
 WORLDS_DIR = Path(__file__).resolve().parents[1] / "worlds"
 Spawn = tuple[float, float, float]
@@ -42,7 +52,8 @@ Spawn = tuple[float, float, float]
 class World:
     """A loaded world: its obstacles, the region known to be free, the file it came from, its spawns.
 
-    ``spawns`` lists poses known to be free (the first is the default); empty for map worlds.
+    ``spawns`` lists poses known to be free (the first is the default); ``docks`` the charging docks
+    (sim2d.core.dock); both empty for map worlds.
     """
 
     name: str
@@ -50,6 +61,7 @@ class World:
     free_region: FloatArray | None
     source: Path
     spawns: tuple[Spawn, ...] = ()
+    docks: tuple[Dock, ...] = ()
 
 
 def resolve_world(spec: str | Path) -> Path:
@@ -98,7 +110,8 @@ def parse_world(data: object, path: Path) -> World:
     geometry = StaticGeometry(circles=np.array(out.circles, dtype=np.float64).reshape(-1, 3),
                               boxes=np.array(out.boxes, dtype=np.float64).reshape(-1, 4),
                               polygons=tuple(out.polygons))
-    return World(str(data.get("name", path.stem)), geometry, free, path, _spawns(data, path, geometry))
+    return World(str(data.get("name", path.stem)), geometry, free, path, _spawns(data, path, geometry),
+                 _docks(data, path, geometry))
 
 
 def check_spawn(world: World, x: float, y: float, radius: float) -> None:
@@ -143,6 +156,43 @@ def _spawns(data: dict[str, Any], path: Path, geometry: StaticGeometry) -> tuple
         i = int(np.argmax(inside))
         raise ValueError(f"{path}: spawns[{i}]: {value[i]} is inside an obstacle")
     return tuple(spawns)
+
+
+_DOCK_FIELDS = ("id", "type", "pose", "contact_tolerance", "contact_yaw_tolerance")
+
+
+def _docks(data: dict[str, Any], path: Path, geometry: StaticGeometry) -> tuple[Dock, ...]:
+    """The ``docks`` list: each {id, type, pose: [x, y, yaw]} with a free contact pose and a unique id."""
+    value = data.get("docks", [])
+    if not isinstance(value, list):
+        raise ValueError(f"{path}: docks: must be a list of {{id, type, pose}}, got {value!r}")
+    docks: list[Dock] = []
+    for i, item in enumerate(value):
+        where = f"{path}: docks[{i}]"
+        if not isinstance(item, dict):
+            raise ValueError(f"{where}: must be a mapping {{id, type, pose}}, got {item!r}")
+        unknown = sorted(str(key) for key in item if key not in _DOCK_FIELDS)
+        if unknown:
+            raise ValueError(f"{where}.{unknown[0]}: unknown field (known: {', '.join(_DOCK_FIELDS)})")
+        dock_id = item.get("id")
+        if not isinstance(dock_id, str) or not dock_id.strip():
+            raise ValueError(f"{where}.id: must be a non-empty string, got {dock_id!r}")
+        if any(dock.id == dock_id for dock in docks):
+            raise ValueError(f"{where}.id: {dock_id!r} is already the id of an earlier dock")
+        kind = item.get("type")
+        if kind not in DOCK_TYPES:
+            raise ValueError(f"{where}.type: must be one of {sorted(DOCK_TYPES)}, got {kind!r}")
+        pose = item.get("pose")
+        if not (isinstance(pose, list) and len(pose) == 3 and all(_is_number(v) for v in pose)):
+            raise ValueError(f"{where}.pose: must be the contact pose [x, y, yaw] (m, m, rad), got {pose!r}")
+        if geometry.contains(np.array([pose[:2]], dtype=np.float64))[0]:
+            raise ValueError(f"{where}.pose: contact pose {pose} is inside an obstacle")
+        dock_type = DOCK_TYPES[kind]
+        fields = _Fields(item, where)
+        docks.append(Dock(dock_id, dock_type, Pose2D(float(pose[0]), float(pose[1]), float(pose[2])),
+                          fields.number("contact_tolerance", True, dock_type.contact_tolerance),
+                          fields.number("contact_yaw_tolerance", True, dock_type.contact_yaw_tolerance)))
+    return tuple(docks)
 
 
 @dataclass

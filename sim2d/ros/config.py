@@ -12,6 +12,7 @@ Layout (Nav2 style, config/sim2d.yaml)::
         initial_pose: {x: -2.0, y: -0.5, yaw: 0.0}
         lidar: {beams: 360, ...}     # LidarParams, OdometryParams, BatteryParams, CollisionParams
         lockstep: {enabled: false, participants: [nav2]}   # LockstepParams (string arrays are tuples)
+        dock_detection: {rate: 10.0, fov: 1.25, ...}       # DockDetectionParams
 
 The lidar's defaults are the robot's sensor (sim2d/core/robot.py: LDS-01 on the TurtleBot3s, RPLIDAR
 A1 on tb4), applied under the user's values: an explicit ``lidar.*`` (file, ``-p``) still wins.
@@ -29,6 +30,7 @@ import yaml
 
 from sim2d.core.battery import BatteryParams
 from sim2d.core.collision import CollisionParams
+from sim2d.core.dock_detection import DockDetectionParams
 from sim2d.core.lidar import LidarParams
 from sim2d.core.odometry import OdometryParams
 from sim2d.core.robot import robot_model
@@ -117,6 +119,7 @@ class SimConfig:
     battery: BatteryParams
     collision: CollisionParams
     lockstep: LockstepParams
+    dock_detection: DockDetectionParams
 
     def __post_init__(self) -> None:
         if self.lockstep.max_lead < self.sim.physics_step:
@@ -126,7 +129,8 @@ class SimConfig:
 
 _ROOTS: tuple[type, ...] = (NodeParams, SimParams)
 _SECTIONS: dict[str, type] = {"lidar": LidarParams, "odometry": OdometryParams, "battery": BatteryParams,
-                              "collision": CollisionParams, "lockstep": LockstepParams}
+                              "collision": CollisionParams, "lockstep": LockstepParams,
+                              "dock_detection": DockDetectionParams}
 
 
 def _default(f: dataclasses.Field[Any]) -> Any:

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import PointStamped, TransformStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TransformStamped
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import BatteryState, LaserScan
@@ -22,6 +22,7 @@ from visualization_msgs.msg import Marker
 
 from sim2d.core.battery import Battery
 from sim2d.core.disturbances import DroppedObstacle
+from sim2d.core.dock_detection import TagDetection
 from sim2d.core.lidar import LidarParams
 from sim2d.core.robot import Pose2D, RobotModel
 
@@ -130,7 +131,11 @@ class ScanBuilder:
 
 
 def battery_state(time_ns: int, battery: Battery) -> BatteryState:
-    """sensor_msgs/BatteryState (percentage 0..1, LiPo, charging when docked at rest)."""
+    """sensor_msgs/BatteryState (percentage 0..1, LiPo, charging on a charger at rest).
+
+    ``current`` (A) is positive while charging (Nav2's SimpleChargingDock: charging when above its
+    charging_threshold, 0.5 A) and negative while discharging (sim2d/core/battery.py).
+    """
     msg = BatteryState()
     msg.header.stamp = stamp(time_ns)
     msg.header.frame_id = BASE_LINK
@@ -138,7 +143,7 @@ def battery_state(time_ns: int, battery: Battery) -> BatteryState:
     msg.percentage = battery.charge
     msg.capacity = msg.design_capacity = battery.params.capacity_ah
     msg.charge = battery.charge * battery.params.capacity_ah
-    msg.current = math.nan
+    msg.current = battery.current
     msg.temperature = math.nan
     if battery.charging:
         msg.power_supply_status = BatteryState.POWER_SUPPLY_STATUS_FULL if battery.charge >= 1.0 \
@@ -149,6 +154,17 @@ def battery_state(time_ns: int, battery: Battery) -> BatteryState:
         else BatteryState.POWER_SUPPLY_HEALTH_DEAD
     msg.power_supply_technology = BatteryState.POWER_SUPPLY_TECHNOLOGY_LIPO
     msg.present = True
+    return msg
+
+
+def detected_dock_pose(time_ns: int, detection: TagDetection) -> PoseStamped:
+    """The tag's pose in base_link, stamped with the sim time of the detection (``detected_dock_pose``)."""
+    msg = PoseStamped()
+    msg.header.stamp = stamp(time_ns)
+    msg.header.frame_id = BASE_LINK
+    position, orientation = msg.pose.position, msg.pose.orientation
+    position.x, position.y, position.z = detection.position
+    orientation.x, orientation.y, orientation.z, orientation.w = detection.orientation
     return msg
 
 

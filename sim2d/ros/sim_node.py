@@ -3,7 +3,9 @@
 Scheduling: a steady (wall) timer runs as many physics steps as ``real_time_factor`` demands (or,
 with 0, as many as fit in a short wall budget); after each step the node publishes whatever is due
 in sim time: /clock at ``clock_rate``, /odom + /tf + ground_truth at ``odometry.rate``, /scan at
-``lidar.rate``, /battery_state at ``battery_rate``. Every stamp is sim time; /clock is the source.
+``lidar.rate``, /battery_state at ``battery_rate`` (and at once when charging on a dock starts or
+stops: Nav2's docking server waits only ``wait_charge_timeout``, 5 s, for it), detected_dock_pose at
+``dock_detection.rate`` while a dock's tag is in view. Every stamp is sim time; /clock is the source.
 
 Lockstep (``lockstep.enabled``): the participants' reports on /lockstep/progress feed a
 :class:`~sim2d.core.lockstep.LockstepGate`, and no step goes beyond its limit (the slowest report
@@ -24,16 +26,19 @@ ROS surface (names relative to the node namespace unless absolute):
   sub  /lockstep/progress (std_msgs/Header, only with lockstep.enabled)
   pub  /clock, scan (reliable), odom, /tf, /tf_static (transient local), ground_truth (frame map),
        battery_state, sim2d/collisions (PointStamped per new contact),
+       detected_dock_pose (geometry_msgs/PoseStamped, the seen dock's tag in base_link; only in a world
+       with docks, only while a tag is seen: sim2d/core/dock_detection.py),
        sim2d/collision_count (UInt32, transient local), sim2d/real_time_factor (Float64, achieved)
   srv  sim2d/reset (std_srvs/Empty), sim2d/pause (std_srvs/SetBool: true pauses)
 """
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
-from geometry_msgs.msg import PointStamped, Twist, TwistStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.clock import Clock
@@ -63,6 +68,7 @@ SCAN_TOPIC, ODOM_TOPIC, CMD_VEL_TOPIC = "scan", "odom", "cmd_vel"
 GROUND_TRUTH_TOPIC, BATTERY_TOPIC = "ground_truth", "battery_state"
 COLLISIONS_TOPIC, COLLISION_COUNT_TOPIC = "sim2d/collisions", "sim2d/collision_count"
 RTF_TOPIC = "sim2d/real_time_factor"
+DETECTED_DOCK_TOPIC = "detected_dock_pose"   # opennav_docking SimpleChargingDock's subscription
 RESET_SERVICE, PAUSE_SERVICE = "sim2d/reset", "sim2d/pause"
 
 TICK_PERIOD = 0.005        # wall seconds between stepping bursts
@@ -97,7 +103,7 @@ class Sim2dNode(Node):
         self.robot = robot_model(cfg.node.robot)
         world = load_world(cfg.node.world)
         self.sim = Simulator(world, self.robot, cfg.sim, np.random.default_rng(cfg.node.seed),
-                             cfg.lidar, cfg.odometry, cfg.battery, cfg.collision)
+                             cfg.lidar, cfg.odometry, cfg.battery, cfg.collision, cfg.dock_detection)
         self.paused = False
         self.achieved_rtf = 0.0
         self.commands = CommandSchedule(round(cfg.node.stamped_cmd_vel_delay * 1e9))
@@ -105,10 +111,12 @@ class Sim2dNode(Node):
         self._warned: set[tuple[str, str]] = set()
         self._make_interfaces()
         self._periods = {"clock": _period_ns(cfg.node.clock_rate), "odom": _period_ns(cfg.odometry.rate),
-                         "scan": _period_ns(cfg.lidar.rate), "battery": _period_ns(cfg.node.battery_rate)}
+                         "scan": _period_ns(cfg.lidar.rate), "battery": _period_ns(cfg.node.battery_rate),
+                         "dock": _period_ns(cfg.dock_detection.rate)}
         self._due = dict.fromkeys(self._periods, 0)
         self._clock_sent = (-1, time.monotonic())     # (sim ns, wall s) of the newest /clock sent
         self._battery_was_empty = False  # before the first publish: it warns about a battery empty at start
+        self._charging_reported = False  # battery.charging in the newest /battery_state
         self._publish_due()
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._anchor = (time.monotonic(), self.sim.time_ns)
@@ -122,7 +130,9 @@ class Sim2dNode(Node):
         self.get_logger().info(
             f"sim2d: world {world.name} ({world.source}), robot {self.robot.name}, spawn "
             f"({cfg.sim.initial_pose.x}, {cfg.sim.initial_pose.y}, {cfg.sim.initial_pose.yaw}), "
-            f"real-time factor {'max' if rtf == 0 else rtf}, step {cfg.sim.physics_step} s")
+            f"real-time factor {'max' if rtf == 0 else rtf}, step {cfg.sim.physics_step} s; charging "
+            + (f"on the docks {', '.join(dock.id for dock in world.docks) or '(none in this world)'}"
+               if self.sim.battery.uses_docks else f"within {cfg.battery.station_radius} m of the station"))
         self.gate: LockstepGate | None = None
         self._blocked = False
         if cfg.lockstep.enabled:
@@ -140,6 +150,8 @@ class Sim2dNode(Node):
         self.pub_collision = self.create_publisher(PointStamped, COLLISIONS_TOPIC, RELIABLE_10)
         self.pub_collision_count = self.create_publisher(UInt32, COLLISION_COUNT_TOPIC, LATCHED)
         self.pub_rtf = self.create_publisher(Float64, RTF_TOPIC, RELIABLE_10)
+        self.pub_dock = self.create_publisher(PoseStamped, DETECTED_DOCK_TOPIC, RELIABLE_10) \
+            if self.sim.docks else None
         self._cmd_type = TwistStamped if cfg.node.enable_stamped_cmd_vel else Twist
         self.create_subscription(self._cmd_type, CMD_VEL_TOPIC, self._on_cmd_vel, RELIABLE_10)
         self.world_inputs = WorldInputs(self, self.sim, RELIABLE_10)
@@ -204,9 +216,19 @@ class Sim2dNode(Node):
         if now >= due["scan"]:
             self.pub_scan.publish(self._scan.build(now, sim.scan()))
             due["scan"] = self._next_due(due["scan"], self._periods["scan"], now)
-        if now >= due["battery"]:
+        if self.pub_dock is not None and now >= due["dock"]:
+            detection = sim.detect_dock()
+            if detection is not None:
+                self.pub_dock.publish(messages.detected_dock_pose(now, detection))
+            due["dock"] = self._next_due(due["dock"], self._periods["dock"], now)
+        dock_change = sim.battery.uses_docks and sim.battery.charging != self._charging_reported
+        if now >= due["battery"] or dock_change:
             self.pub_battery.publish(messages.battery_state(now, sim.battery))
-            due["battery"] = self._next_due(due["battery"], self._periods["battery"], now)
+            if dock_change:
+                self._log_dock_change()
+            self._charging_reported = sim.battery.charging
+            if now >= due["battery"]:
+                due["battery"] = self._next_due(due["battery"], self._periods["battery"], now)
             self._warn_if_battery_empty(sim.battery.empty)
         if sim.collision_events:
             for event in sim.pop_collision_events():
@@ -218,14 +240,30 @@ class Sim2dNode(Node):
             self._publish_clock(now)
             due["clock"] = self._next_due(due["clock"], self._periods["clock"], now)
 
+    def _log_dock_change(self) -> None:
+        """Say when charging on a dock starts or stops, and where the robot stands against the dock."""
+        sim = self.sim
+        if sim.battery.charging and sim.docked is not None:
+            dock = sim.docked
+            offset_mm = 1000.0 * math.hypot(sim.pose.x - dock.pose.x, sim.pose.y - dock.pose.y)
+            self.get_logger().info(
+                f"sim2d: charging on {dock.id} at sim time {sim.time:.3f} s (base_link {offset_mm:.0f} mm "
+                f"from its contact pose, {sim.battery.current:.1f} A)")
+        else:
+            self.get_logger().info(f"sim2d: charging stopped at sim time {sim.time:.3f} s")
+
     def _warn_if_battery_empty(self, empty: bool) -> None:
         """Say once why the robot stopped obeying cmd_vel; say again after a recharge empties it again."""
         if empty and not self._battery_was_empty:
-            p = self.sim.battery.params
+            battery = self.sim.battery
+            p = battery.params
+            where = (f"on a dock ({', '.join(dock.id for dock in self.sim.docks) or 'the world has none'})"
+                     if battery.uses_docks else
+                     f"within {p.station_radius} m of the station ({p.station_x}, {p.station_y})")
             self.get_logger().warn(
                 f"battery empty at sim time {self.sim.time:.1f} s: the robot ignores cmd_vel until it is "
-                f"recharged within {p.station_radius} m of the station ({p.station_x}, {p.station_y}); "
-                "set battery.drain_per_meter and battery.drain_per_second to 0 to drive forever")
+                f"recharged {where}; set battery.drain_per_meter and battery.drain_per_second to 0 to "
+                "drive forever")
         self._battery_was_empty = empty
 
     @staticmethod

@@ -157,7 +157,8 @@ def test_a_battery_event_becomes_a_sim2d_overlay_over_the_patrol_one(tmp_path: P
     assert plan.record and plan.mission is not None
     assert plan.mission[plan.mission.index("--cycles") + 1] == "2"
     overlay = yaml.safe_load(plan.files[tmp_path / "sim2d_overlay.yaml"])["sim2d"]["ros__parameters"]
-    assert overlay["battery"] == {"drain_per_meter": 0.02, "drain_per_second": 0.0005, "initial_charge": 0.1}
+    assert overlay["battery"] == {"drain_per_meter": 0.02, "drain_per_second": 0.0005, "charge_at": "station",
+                                  "initial_charge": 0.1}
     assert "--bringup-arg=--world" in plan.mission
 
 

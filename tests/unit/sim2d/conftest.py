@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 
 from sim2d.core.robot import WAFFLE, Pose2D, RobotModel
 from sim2d.core.simulator import SimParams, Simulator
-from sim2d.core.world import World, load_world
+from sim2d.core.world import World, load_world, parse_world
 
 SPAWN = Pose2D(-2.0, -0.5, 0.0)
 
@@ -37,3 +38,17 @@ def drive(sim: Simulator, v: float, w: float, seconds: float) -> None:
     for _ in range(round(seconds / sim.params.physics_step)):
         sim.command(v, w)
         sim.step()
+
+
+def room_with_docks(*docks: dict[str, Any], half: float = 2.0) -> World:
+    """A square room (inner half-size ``half`` m, walls 0.1 m) holding ``docks`` (world YAML entries)."""
+    inner = [[-half, -half], [half, -half], [half, half], [-half, half]]
+    data = {"name": "dock_room", "obstacles": [{"type": "ring", "vertices": inner, "thickness": 0.1}],
+            "docks": list(docks)}
+    return parse_world(data, Path("dock_room.yaml"))
+
+
+def sim_in(world: World, pose: Pose2D, robot: RobotModel = WAFFLE, seed: int = 0,
+           **components: Any) -> Simulator:
+    """A simulator in ``world`` with the robot at ``pose``."""
+    return Simulator(world, robot, SimParams(initial_pose=pose), np.random.default_rng(seed), **components)

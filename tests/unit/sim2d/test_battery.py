@@ -43,10 +43,45 @@ def test_empty_battery_cannot_drive(make_sim) -> None:
 
 
 def test_robot_charges_when_parked_at_the_station(make_sim) -> None:
-    battery = BatteryParams(initial_charge=0.2, charge_per_second=0.05)
+    # turtlebot3_world has a dock, so "auto" would charge there: the seed's patrol overlay picks the station
+    battery = BatteryParams(initial_charge=0.2, charge_per_second=0.05, charge_at="station")
     sim = make_sim(Pose2D(-1.37, -0.82, 0.0), battery=battery)
     drive(sim, 0.0, 0.0, 4.0)
     assert sim.battery.charge == pytest.approx(0.4, abs=1e-6)
+
+
+def test_auto_charges_at_the_station_in_a_world_without_docks() -> None:
+    params = BatteryParams(initial_charge=0.5, drain_per_second=0.0)
+    battery = Battery(params, has_docks=False)
+    battery.update(params.station_x, params.station_y, 0.0, 0.0, 0.0, 1.0)
+    assert battery.charging and not battery.uses_docks
+    docked_world = Battery(params, has_docks=True)          # a world with docks: only the docks charge
+    docked_world.update(params.station_x, params.station_y, 0.0, 0.0, 0.0, 1.0)
+    assert not docked_world.charging and docked_world.charge == 0.5
+    docked_world.update(0.0, 0.0, 0.0, 0.0, 0.0, 1.0, on_dock=True)
+    assert docked_world.charging and docked_world.charge == pytest.approx(0.52)
+    station_only = Battery(BatteryParams(charge_at="station"), has_docks=True)
+    station_only.update(5.0, 5.0, 0.0, 0.0, 0.0, 1.0, on_dock=True)
+    assert not station_only.charging
+
+
+def test_current_is_positive_while_charging_and_negative_while_draining() -> None:
+    params = BatteryParams(initial_charge=0.5)
+    battery = Battery(params, has_docks=True)
+    battery.update(0.0, 0.0, 0.0, 0.0, 0.0, 0.005, on_dock=True)
+    assert battery.current == params.charging_current > 0.5    # above Nav2's charging_threshold
+    battery.update(0.0, 0.0, 0.2, 0.0, 0.001, 0.005, on_dock=True)   # moving on the dock: no charge
+    drawn = (0.00011 * 0.001 + 0.00011 * 0.005) * 1.8 * 3600.0 / 0.005
+    assert not battery.charging and battery.current == pytest.approx(-drawn)
+    assert -1.0 < battery.current < -0.5                    # the waffle's figures: about 0.7 A idle
+    empty = Battery(BatteryParams(initial_charge=0.0))
+    empty.update(0.0, 0.0, 0.0, 0.0, 0.0, 0.005)
+    assert empty.current == 0.0
+
+
+def test_bad_charge_at_is_named() -> None:
+    with pytest.raises(ValueError, match=r"battery\.charge_at: .*'dock'"):
+        BatteryParams(charge_at="dock")
 
 
 def test_bad_battery_figure_is_named() -> None:

@@ -18,7 +18,8 @@ from sim2d.ros.cli import main
 
 REPO = Path(__file__).resolve().parents[3]
 WORLDS = sorted(p.stem for p in WORLDS_DIR.glob("*.yaml"))
-SHIPPED_OFFICES = {"office_small": (1, 12.0, 8.0), "depot_large": (2, 30.0, 15.0)}  # seed, width, height
+#: seed, width, height, with a dock (scripts/generate_office_world.py --dock)
+SHIPPED_OFFICES = {"office_small": (1, 12.0, 8.0, False), "depot_large": (2, 30.0, 15.0, True)}
 ROBOT_RADIUS = max(math.hypot(x, y) for x, y in WAFFLE.footprint())  # 0.24 m: the waffle at any yaw
 SPAWN_CLEARANCE = 0.3
 RESOLUTION = 0.05
@@ -96,14 +97,21 @@ def test_house_default_spawn_is_the_tb3_house_spawn_in_the_living_room() -> None
     assert (world.geometry.boundary_distance(np.array(doors)) >= 0.4).all()  # ≥ 0.8 m wide
 
 
-@pytest.mark.parametrize(("name", "seed", "width", "height"),
+@pytest.mark.parametrize(("name", "seed", "width", "height", "dock"),
                          [(name, *spec) for name, spec in SHIPPED_OFFICES.items()])
 def test_shipped_office_worlds_are_the_generator_output(name: str, seed: int, width: float,
-                                                       height: float) -> None:
+                                                       height: float, dock: bool) -> None:
     shipped = yaml.safe_load((WORLDS_DIR / f"{name}.yaml").read_text())
-    assert shipped == generate_office(width, height, seed).world(name)
+    assert shipped == generate_office(width, height, seed, dock=dock).world(name)
     header = (WORLDS_DIR / f"{name}.yaml").read_text().splitlines()[1]
     assert f"--seed {seed} --width {width:g} --height {height:g} --out sim2d/worlds/{name}.yaml" in header
+    assert header.endswith(" --dock") == dock
+
+
+def test_a_generated_dock_leaves_the_rest_of_the_office_as_it_was() -> None:
+    plain = generate_office(30.0, 15.0, 2).world("a")
+    docked = generate_office(30.0, 15.0, 2, dock=True).world("a")
+    assert "docks" not in plain and docked.pop("docks") and docked == plain
 
 
 def test_office_generator_is_deterministic_per_seed_and_size() -> None:
@@ -118,7 +126,7 @@ def _check_rooms_reachable(layout: OfficeLayout) -> None:
     assert all(reached[_cell(room.centre, origin)] for room in layout.rooms)
 
 
-@pytest.mark.parametrize(("seed", "width", "height"), [(*spec,) for spec in SHIPPED_OFFICES.values()]
+@pytest.mark.parametrize(("seed", "width", "height"), [spec[:3] for spec in SHIPPED_OFFICES.values()]
                          + [(3, 12.0, 8.0), (4, 9.0, 7.0), (5, 20.0, 12.0)])
 def test_every_room_of_a_generated_office_is_reachable(seed: int, width: float, height: float) -> None:
     layout = generate_office(width, height, seed)
