@@ -1,9 +1,10 @@
 """Client libraries (SMACC2's smacc2_client_library) and the generic pieces to write your own.
 
-Shipped clients live in subpackages: ``cl_nav2z``, ``cl_ros2_timer``, ``cl_keyboard``, ``cl_battery``,
-``cl_ros_publisher`` and ``cl_multirole_sensor``. This package re-exports the last two and everything
-a SMACC2 user needs to write a client, under SMACC2's names (the classes are defined in
-``smacc_py.ros``; see the README section "Writing your own client"):
+Shipped clients live in subpackages: ``cl_nav2z``, ``cl_ros2_timer`` (and its humble-era name
+``cl_ros_timer``), ``cl_keyboard``, ``cl_battery``, ``cl_ros_publisher`` and ``cl_multirole_sensor``.
+This package re-exports the last two and everything a SMACC2 user needs to write a client, under
+SMACC2's names (the classes are defined in ``smacc_py.ros``; see the README section "Writing your own
+client"):
 
 Client bases (``smacc2::client_bases``):
     ``SmaccActionClientBase`` (SmaccActionClientBase<Action>), ``SmaccSubscriberClient``

@@ -3,7 +3,8 @@
 ``SmaccStateMachineBase`` inherits this mixin. The user's ``on_initialize`` creates the orthogonals; each
 orthogonal's ``on_initialize`` creates its clients, which create their components; ``initialize()`` then
 runs every client's and after that every component's ``on_initialize`` (so a component may look up
-components of other clients) and checks that each orthogonal a state configures was created. All of it
+components of other clients) and checks that each orthogonal a state configures was created and that
+each configured behavior can work on it (``ISmaccClientBehavior.configuration_problem``). All of it
 happens once, before the first state is entered, which is why it lives apart from the event queue and
 the transitions in ``state_machine.py``.
 
@@ -111,4 +112,11 @@ class MachineAssembly:
                     f"{self.name}.on_initialize does not create {orthogonal_type.__name__} (created: "
                     f"{created})"
                 )
+        for state in self.model.states:
+            for cfg in state.behavior_configs:
+                problem = cfg.behavior.configuration_problem(self._orthogonals[cfg.orthogonal], cfg.args,
+                                                             cfg.kwargs)
+                if problem:
+                    raise InvalidDefinitionError(f"{state.__name__}: {cfg.behavior.__name__} on "
+                                                 f"{cfg.orthogonal.__name__}: {problem}")
         self._initialized = True

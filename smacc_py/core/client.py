@@ -15,7 +15,7 @@ from __future__ import annotations
 from typing import Any, Protocol, TypeVar
 
 from smacc_py.core.events import SmaccEvent
-from smacc_py.core.ports import MachinePort
+from smacc_py.core.ports import MachinePort, SmaccLogger
 
 C = TypeVar("C")
 
@@ -67,6 +67,12 @@ class ISmaccClient:
         """Post an event with ABSOLUTE lifetime (clients outlive states)."""
         self.sm.post_event(event)
 
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger (the node's under the ROS runtime), as SMACC2's ``getLogger()``."""
+        return self.sm.get_logger()
+
+    getLogger = get_logger  # SMACC2's spelling
+
 
 class ISmaccComponent:
     """Base of every component (``smacc2::ISmaccComponent``); owned by one client."""
@@ -99,6 +105,12 @@ class ISmaccComponent:
     def post_event(self, event: SmaccEvent | type[SmaccEvent]) -> None:
         """Post an event with ABSOLUTE lifetime."""
         self.sm.post_event(event)
+
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger (the node's under the ROS runtime), as SMACC2's ``getLogger()``."""
+        return self.sm.get_logger()
+
+    getLogger = get_logger  # SMACC2's spelling
 
 
 class OrthogonalPort(Protocol):

@@ -21,12 +21,13 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Mapping
 from typing import Any, TypeVar
 
 from smacc_py.core.client import OrthogonalPort
 from smacc_py.core.errors import missing
 from smacc_py.core.events import EvCbFailure, EvCbFinished, EvCbSuccess, SmaccEvent
-from smacc_py.core.ports import MachinePort, StatePort
+from smacc_py.core.ports import MachinePort, SmaccLogger, StatePort
 
 _log = logging.getLogger("smacc_py")
 C = TypeVar("C")
@@ -48,6 +49,17 @@ class ISmaccClientBehavior:
         self._seq = state.seq
 
     # ------------------------------------------------------------------ user hooks
+    @classmethod
+    def configuration_problem(cls, orthogonal: OrthogonalPort, args: tuple[Any, ...],
+                              kwargs: Mapping[str, Any]) -> str | None:
+        """Why ``cls(*args, **kwargs)`` cannot work on ``orthogonal`` as the machine created it, or None.
+
+        Called once per ``configure_orthogonal`` when the machine initializes (its clients exist), so a
+        configuration that only the clients can judge (a tick count for a timer without a tick period)
+        fails at startup with this text, not silently when the state is entered.
+        """
+        return None
+
     def runtime_configure(self) -> None:
         """Called after the state's ``runtime_configure`` and before any ``on_entry``."""
 
@@ -65,6 +77,12 @@ class ISmaccClientBehavior:
     def get_state_machine(self) -> MachinePort:
         """The machine."""
         return self.sm
+
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger (the node's under the ROS runtime), as SMACC2's ``getLogger()``."""
+        return self.sm.get_logger()
+
+    getLogger = get_logger  # SMACC2's spelling
 
     def requires_client(self, client_type: type[C]) -> C:
         """A client of this behavior's orthogonal; SmaccLookupError naming the orthogonal when absent."""

@@ -337,6 +337,13 @@ KEY_PRESS_EVENTS: dict[str, type[EvKeyPress]] = {
     letter: type(f"EvKeyPress{letter}", (EvKeyPress,), {"key": letter, "__module__": __name__})
     for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
 }
+#: SMACC2's ``cl_keyboard::EvKeyPressA`` .. ``EvKeyPressZ`` by name (its keyboard client has letters only).
+(
+    EvKeyPressA, EvKeyPressB, EvKeyPressC, EvKeyPressD, EvKeyPressE, EvKeyPressF, EvKeyPressG,
+    EvKeyPressH, EvKeyPressI, EvKeyPressJ, EvKeyPressK, EvKeyPressL, EvKeyPressM, EvKeyPressN,
+    EvKeyPressO, EvKeyPressP, EvKeyPressQ, EvKeyPressR, EvKeyPressS, EvKeyPressT, EvKeyPressU,
+    EvKeyPressV, EvKeyPressW, EvKeyPressX, EvKeyPressY, EvKeyPressZ,
+) = (KEY_PRESS_EVENTS[letter] for letter in "ABCDEFGHIJKLMNOPQRSTUVWXYZ")
 WAYPOINT_EVENTS: tuple[type[EvWaypoint], ...] = tuple(
     type(f"EvWaypoint{i}", (EvWaypoint,), {"index": i, "__module__": __name__})
     for i in range(MAX_WAYPOINT_EVENTS)
@@ -359,9 +366,7 @@ def waypoint_event(index: int) -> type[EvWaypoint]:
 
 
 def __getattr__(name: str) -> type[SmaccEvent]:
-    """Module attributes ``EvKeyPressA``..``EvKeyPressZ`` and ``EvWaypoint0``..``EvWaypoint44``."""
-    if name.startswith("EvKeyPress") and name[10:] in KEY_PRESS_EVENTS:
-        return KEY_PRESS_EVENTS[name[10:]]
+    """Module attributes ``EvWaypoint0``..``EvWaypoint44``."""
     if name.startswith("EvWaypoint") and name[10:].isdigit() and int(name[10:]) < MAX_WAYPOINT_EVENTS:
         return WAYPOINT_EVENTS[int(name[10:])]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,7 +1,8 @@
 """Compiles a machine class's declarations into a validated, precomputed model.
 
 Everything the engine needs at runtime that depends only on declarations is computed here once per
-machine class: the state tree (parents, levels, children, inner initial states); every transition's
+machine class: the state tree (parents, levels, children, inner initial states; a ``parent="Name"`` is
+resolved here among the machine and its states, then bound for good); every transition's
 resolved target and event (state names among event parameters, e.g. ``EvLoopEnd["StLoop"]``, are
 forward references too, in transitions and in reactor declarations); the states a transition exits
 (``keep_depth``: how many outer states stay active) and enters (``entry_path``); the tag-specific exit
@@ -9,7 +10,7 @@ hook; and per-(leaf state, event class) dispatch tables (innermost state first, 
 built lazily and cached. The same model feeds introspection and graph export, so what is drawn is
 what runs.
 
-Definition errors found here (unknown target names, history of a non-superstate, unreachable states,
+Definition errors found here (unknown target or parent names, history of a non-superstate, unreachable states,
 superstates without an inner initial state, states claimed by another machine) raise
 ``InvalidDefinitionError`` naming the class at fault; the machine compiles on first instantiation,
 ``validate()`` or ``describe_state_machine()``.
@@ -24,7 +25,14 @@ from typing import Any
 
 from smacc_py.core.errors import InvalidDefinitionError
 from smacc_py.core.events import SmaccEvent
-from smacc_py.core.state import ReactorConfig, SmaccState, declared_children
+from smacc_py.core.state import (
+    ReactorConfig,
+    SmaccState,
+    bind_parent,
+    declared_children,
+    home,
+    named_parent_orphans,
+)
 from smacc_py.core.tags import TransitionTag
 from smacc_py.core.transition import Guard, History, Transition
 
@@ -69,6 +77,12 @@ class MachineModel:
     def __init__(self, sm_type: type) -> None:
         self.sm_type = sm_type
         self._names = self._declared_names()
+        orphans = named_parent_orphans(home(sm_type))
+        if orphans:
+            raise InvalidDefinitionError("; ".join(
+                f"{c.__name__} ({c.__module__}): parent={c.parent_decl!r} names no state of "
+                f"{sm_type.__name__} (nor any state or machine next to it; states of "
+                f"{sm_type.__name__}: {', '.join(sorted(self._names)) or 'none'})" for c in orphans))
         initial_ref = getattr(sm_type, "initial_state", None)
         if initial_ref is None:
             raise InvalidDefinitionError(f"{sm_type.__name__}: no initial_state declared")
@@ -96,6 +110,9 @@ class MachineModel:
             for cls in self._parents
         }
         self.initial_path = self.chains[self.initial] + self._descent(self.initial)
+        for cls, parent in self._parents.items():  # compiled: bind parent="Name" declarations for good
+            if isinstance(cls.parent_decl, str):
+                bind_parent(cls, parent if parent is not None else sm_type)
         self._tables: dict[type[SmaccState], dict[type[SmaccEvent], tuple[TransitionPlan, ...]]] = {}
 
     # ------------------------------------------------------------------ discovery and validation
@@ -124,13 +141,27 @@ class MachineModel:
             raise InvalidDefinitionError(f"{where}: {ref!r} is not a SmaccState subclass")
         return ref
 
+    def _parent_decl(self, cls: type[SmaccState]) -> type | None:
+        """``cls.parent_decl`` with a name (``parent="MsRunMode"``) resolved to the machine or its state."""
+        decl = cls.parent_decl
+        if not isinstance(decl, str):
+            return decl
+        if decl == self.sm_type.__name__ and home(self.sm_type) == home(cls):
+            return self.sm_type
+        found = self._names.get(decl)
+        if found is None:
+            known = ", ".join(sorted(self._names)) or "none"
+            raise InvalidDefinitionError(f"{cls.__name__}: parent={decl!r} names no state of "
+                                         f"{self.sm_type.__name__} (its states: {known})")
+        return found
+
     def _discover(self) -> None:
         pending = [self.initial]
         while pending:
             cls = pending.pop(0)
             if cls in self._parents:
                 continue
-            decl = cls.parent_decl
+            decl = self._parent_decl(cls)
             if decl is not None and not issubclass(decl, SmaccState) and decl is not self.sm_type:
                 raise InvalidDefinitionError(
                     f"{cls.__name__} belongs to {decl.__name__} (parent=) but is reached from "
@@ -148,7 +179,7 @@ class MachineModel:
                 raise InvalidDefinitionError(
                     f"{cls.__name__} has inner states ({names}) but declares no inner_initial_state"
                 )
-            if inner is not None and inner.parent_decl is not cls:
+            if inner is not None and self._parent_decl(inner) is not cls:
                 raise InvalidDefinitionError(
                     f"{cls.__name__}.inner_initial_state {inner.__name__} must declare parent={cls.__name__}"
                 )

@@ -20,6 +20,26 @@ from smacc_py.core.events import SmaccEvent
 C = TypeVar("C")
 
 
+class SmaccLogger(Protocol):
+    """What ``get_logger()`` returns: a ``logging.Logger`` without ROS, the node's rclpy logger under the
+    ROS runtime (SMACC2's ``getLogger()`` is the node's rclcpp logger). Both take one message string."""
+
+    def debug(self, message: str, /) -> object:
+        """Log at DEBUG."""
+
+    def info(self, message: str, /) -> object:
+        """Log at INFO."""
+
+    def warning(self, message: str, /) -> object:
+        """Log at WARN."""
+
+    def error(self, message: str, /) -> object:
+        """Log at ERROR."""
+
+    def fatal(self, message: str, /) -> object:
+        """Log at FATAL (``logging``'s CRITICAL)."""
+
+
 class MachinePort(Protocol):
     """What parts and states ask of their machine (``smacc2::ISmaccStateMachine``).
 
@@ -37,6 +57,9 @@ class MachinePort(Protocol):
 
     def now(self) -> float:
         """The machine clock (s): the node clock under the ROS runtime, so sim time works."""
+
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger (the node's under the ROS runtime)."""
 
     def post_event(self, event: SmaccEvent | type[SmaccEvent], *, owner_seq: int | None = None) -> None:
         """Queue an event; ``owner_seq`` gives it CURRENT_STATE lifetime."""

@@ -3,7 +3,10 @@
 What a state class declares (all checked when the class is created, errors name the class):
 
 * ``parent``: class keyword naming the context, i.e. the machine or a superstate
-  (``class StiForward(SmaccState, parent=SsPatrol)``). Omitted: a free top-level state that any machine
+  (``class StiForward(SmaccState, parent=SsPatrol)``), or its name (``parent="SsPatrol"``), resolved when
+  the machine is compiled: a machine split across modules then needs no import cycle, and superstates and
+  their inner states may be defined in any order. A name matches a class of the same package (or of the
+  same directory, or of the same function body). Omitted: a free top-level state that any machine
   reaching it adopts.
 * ``reactions``: a list of ``Transition``; innermost state first, first match in list order wins.
 * ``inner_initial_state``: makes the class a superstate (a class or a forward-referenced name).
@@ -22,6 +25,9 @@ this one; the machine sits above (it is compiled from states) and a state reache
 from __future__ import annotations
 
 import inspect
+import os
+import sys
+import weakref
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
@@ -38,7 +44,7 @@ from smacc_py.core.events import (
 )
 from smacc_py.core.global_data import MISSING
 from smacc_py.core.orthogonal import Orthogonal
-from smacc_py.core.ports import MachinePort
+from smacc_py.core.ports import MachinePort, SmaccLogger
 from smacc_py.core.reactors import StateReactor
 from smacc_py.core.tags import TransitionTag
 from smacc_py.core.transition import Transition
@@ -94,7 +100,21 @@ def _check_signature(owner: str, factory: Callable[..., Any], args: tuple[Any, .
                                      f"{exc}") from None
 
 
-def _register_child(parent: type, child: type) -> None:
+#: States declared with ``parent="Name"`` and not yet bound to a class, by that name. A machine's compile
+#: binds the ones it uses (``bind_parent``), which moves them to their parent's list; defining a state
+#: again (a notebook cell run twice) replaces its unbound namesake.
+_NAMED_CHILDREN: dict[str, list[type]] = {}
+#: Every machine class, so that a ``parent="SmName"`` can be told from a typo (see ``named_parent_orphans``).
+#: Weak: a test that defines machines in its body must not keep them alive.
+_MACHINES: weakref.WeakSet[type] = weakref.WeakSet()
+
+
+def _register_child(parent: type | str, child: type) -> None:
+    if isinstance(parent, str):
+        pending = _NAMED_CHILDREN.setdefault(parent, [])
+        pending[:] = [c for c in pending if c.__name__ != child.__name__ or home(c) != home(child)]
+        pending.append(child)
+        return
     children = parent.__dict__.get("_declared_children")
     if children is None:
         children = []
@@ -102,9 +122,60 @@ def _register_child(parent: type, child: type) -> None:
     children.append(child)
 
 
+def register_machine(machine: type) -> None:
+    """Record a machine class (SmaccStateMachineBase does, for each subclass)."""
+    home(machine)
+    _MACHINES.add(machine)
+
+
+def home(cls: type) -> tuple[str, ...]:
+    """Where a class lives for name resolution: its function body (module and enclosing name) when
+    defined in one, else its top-level package, else (a module run from a folder) its folder, else its
+    module. Computed once, when first asked (at class creation), so it stays put if the module is
+    later removed from ``sys.modules``."""
+    found = cls.__dict__.get("_smacc_home")
+    if found is None:
+        if "<locals>" in cls.__qualname__:
+            found = ("scope", cls.__module__, cls.__qualname__.rpartition(".")[0])
+        elif "." in cls.__module__:
+            found = ("package", cls.__module__.partition(".")[0])
+        else:
+            path = getattr(sys.modules.get(cls.__module__), "__file__", None)
+            found = ("folder", os.path.dirname(os.path.abspath(path))) if path else ("module", cls.__module__)
+        type.__setattr__(cls, "_smacc_home", found)
+    return found
+
+
 def declared_children(parent: type) -> list[type[SmaccState]]:
-    """States that named ``parent`` (a machine or a superstate) in their ``parent=`` keyword."""
-    return list(parent.__dict__.get("_declared_children", ()))
+    """States that named ``parent`` (a machine or a superstate) in their ``parent=`` keyword: by class (or
+    by name, once bound), or by name from the same home (``home``) and not yet bound."""
+    named = [c for c in _NAMED_CHILDREN.get(parent.__name__, ()) if home(c) == home(parent)]
+    return [*parent.__dict__.get("_declared_children", ()), *named]
+
+
+def bind_parent(child: type, parent: type) -> None:
+    """Bind a ``parent="Name"`` to ``parent`` for good, once a machine compiled with it: a factory that
+    defines the same classes again (a test building one machine per call) never mixes two calls' states,
+    and the state lives as long as its parent, as one declared with ``parent=Class`` does."""
+    pending = _NAMED_CHILDREN.get(str(child.__dict__.get("parent_decl")), [])
+    if child in pending:
+        pending.remove(child)
+        _register_child(parent, child)
+
+
+def named_parent_orphans(where: tuple[str, ...]) -> list[type[SmaccState]]:
+    """States of home ``where`` whose ``parent="Name"`` names no state or machine class of that home."""
+    named = [(name, c) for name, children in _NAMED_CHILDREN.items() for c in children if home(c) == where]
+    if not named:
+        return []
+    names = {c.__name__ for c in _MACHINES if home(c) == where}
+    pending: list[type[SmaccState]] = [SmaccState]
+    while pending:  # every live state class
+        for sub in pending.pop().__subclasses__():
+            pending.append(sub)
+            if home(sub) == where:
+                names.add(sub.__name__)
+    return [child for name, child in named if name not in names]
 
 
 class SmaccState:
@@ -114,24 +185,28 @@ class SmaccState:
     reactions: ClassVar[Sequence[Transition]] = ()
     inner_initial_state: ClassVar[type[SmaccState] | str | None] = None
 
-    parent_decl: ClassVar[type | None] = None
+    parent_decl: ClassVar[type | str | None] = None
     behavior_configs: ClassVar[tuple[BehaviorConfig, ...]] = ()
     reactor_configs: ClassVar[tuple[ReactorConfig, ...]] = ()
     generator_configs: ClassVar[tuple[GeneratorConfig, ...]] = ()
     _collecting: ClassVar[list[Any] | None] = None
     _exit_hooks: ClassVar[dict[type[TransitionTag], Callable[[SmaccState], None] | None]]
 
-    def __init_subclass__(cls, parent: type | None = None, **kwargs: Any) -> None:
+    def __init_subclass__(cls, parent: type | str | None = None, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if parent is not None and not (
+        if isinstance(parent, str):
+            if not parent.isidentifier():
+                raise InvalidDefinitionError(f"{cls.__name__}: parent={parent!r} is not a class name")
+        elif parent is not None and not (
             isinstance(parent, type)
             and (issubclass(parent, SmaccState) or getattr(parent, "_is_smacc_state_machine", False))
         ):
             raise InvalidDefinitionError(
-                f"{cls.__name__}: parent must be a SmaccState or SmaccStateMachineBase subclass, got "
-                f"{parent!r}"
+                f"{cls.__name__}: parent must be a SmaccState or SmaccStateMachineBase subclass or its "
+                f"name, got {parent!r}"
             )
         cls.parent_decl = parent
+        home(cls)
         if parent is not None:
             _register_child(parent, cls)
         cls._exit_hooks = {}
@@ -251,6 +326,12 @@ class SmaccState:
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} #{self.seq}>"
+
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger (under the ROS runtime the node's logger, as SMACC2's ``getLogger()``)."""
+        return self.sm.get_logger()
+
+    getLogger = get_logger  # SMACC2's spelling
 
     # ------------------------------------------------------------------ helpers
     def post_event(self, event: SmaccEvent | type[SmaccEvent]) -> None:

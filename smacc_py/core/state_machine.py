@@ -49,8 +49,9 @@ from smacc_py.core.model import MachineModel, TransitionPlan, compile_model
 from smacc_py.core.observer import ObserverRegistry, SmaccObserver, TransitionRecord
 from smacc_py.core.orthogonal import Orthogonal
 from smacc_py.core.params import SmaccEngineParams
+from smacc_py.core.ports import SmaccLogger
 from smacc_py.core.reactors import StateReactor
-from smacc_py.core.state import SmaccState
+from smacc_py.core.state import SmaccState, register_machine
 from smacc_py.core.state_machine_queries import StateMachineQueries
 from smacc_py.core.updatable import poll_updatables
 
@@ -66,6 +67,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
+        register_machine(cls)
         initial = cls.__dict__.get("initial_state")
         if initial is not None and not isinstance(initial, str) and not (
             isinstance(initial, type) and issubclass(initial, SmaccState)
@@ -109,6 +111,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
         self._wake_callback: Callable[[], None] | None = None  # called after each post
         self._dispatch_thread: int | None = None  # the thread inside _drain: it must not re-enter it
         self.global_data = GlobalData()
+        self._logger: SmaccLogger = logging.getLogger(f"smacc_py.{self.name}")
         self.transition_log: deque[TransitionRecord] = deque(maxlen=self.params.transition_log_size)
 
     # ------------------------------------------------------------------ running
@@ -306,6 +309,17 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
         self._table = self.model.table_for(type(self._stack[-1]))
 
     # ------------------------------------------------------------------ polling, clock, observers
+    def get_logger(self) -> SmaccLogger:
+        """The machine's logger: ``logging.getLogger("smacc_py.<name>")``, or what ``set_logger`` gave (the
+        ROS runtime gives the node's logger, as SMACC2's ``getLogger()``)."""
+        return self._logger
+
+    getLogger = get_logger  # SMACC2's spelling
+
+    def set_logger(self, logger: SmaccLogger) -> None:
+        """Log through ``logger`` from now on (every ``get_logger()`` asks the machine)."""
+        self._logger = logger
+
     def now(self) -> float:
         """The injected clock (s); ``time.monotonic`` unless the runtime passed ``now=``."""
         return self._now()

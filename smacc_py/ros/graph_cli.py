@@ -1,7 +1,8 @@
 """``smacc-graph <sm> [--format mermaid|dot] [-o file]``: a machine's graph from its declarations alone.
 
 No ROS node is created and no state is entered: the graph comes from the classes (states, transitions
-with tags, orthogonals with their behaviors, reactors, generators).
+with tags, orthogonals with their behaviors, reactors, generators). The machine is named as for
+``smacc-run`` (a shipped name, a module path, a .py file or a package folder; ``smacc_py.ros.loader``).
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     from smacc_py.ros.loader import load_state_machine
 
     parser = argparse.ArgumentParser(prog="smacc-graph", description=__doc__.splitlines()[0])
-    parser.add_argument("state_machine", help="sm_nav2_test_1, a module path, or module:Class")
+    parser.add_argument("state_machine", help="sm_nav2_test_1, a module path, a .py file or package folder, "
+                                              "optionally followed by :ClassName")
     parser.add_argument("--format", choices=("mermaid", "dot"), default="mermaid")
     parser.add_argument("-o", "--output", type=Path, help="write here instead of stdout")
     options = parser.parse_args(argv)

@@ -1,14 +1,21 @@
 """``smacc-run <sm> [--ros-args ...]``: run a state machine on its own ROS node until Ctrl-C.
 
-Example::
+Examples::
 
     smacc-run sm_nav2_test_1 --ros-args --params-file config/sm_nav2_test_1.yaml -p use_sim_time:=true
+    smacc-run my_pkg.sm_foo            # a module path (sys.path or the current directory)
+    smacc-run ./sm_my_machine          # a package folder, e.g. one written by smacc-new
+    smacc-run ./sm_foo.py:SmFoo        # a module file, naming the class
 
+``smacc_py.ros.loader`` resolves the name (a name found nowhere lists every place looked, exit 2).
 Each transition is logged on the node's logger as it happens. ``--executor single`` runs the node on
 rclpy's SingleThreadedExecutor instead of the C++ EventsExecutor (default: ``$NAVSUITE_EXECUTOR`` or
-``events``). Ctrl-C or SIGTERM stops the machine while the node can still talk (behaviors' on_exit
-cancel their goals and zero the velocity), then tears everything down: rclpy's own signal handler,
-which would shut the context down first, is off.
+``events``). Ctrl-C or SIGTERM ends the run quietly with exit status 0: the signal only sets a flag
+that the spin loop checks between two executor turns (an exception raised from a signal handler
+would surface inside whichever callback the executor was running, as a logged traceback), then the
+machine stops while the node can still talk (behaviors' on_exit cancel their goals and zero the
+velocity) and everything is torn down. rclpy's own signal handler, which would shut the context down
+first, is off; signals during the teardown are ignored.
 """
 
 from __future__ import annotations
@@ -18,59 +25,92 @@ import signal
 import sys
 from collections.abc import Sequence
 from types import FrameType
+from typing import TYPE_CHECKING, Any
 
 from ros_tools.dds import keep_dds_local
 
+if TYPE_CHECKING:
+    from smacc_py.ros.runtime import SmaccRuntime
+
 keep_dds_local()
 
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-def _interrupt(signum: int, frame: FrameType | None) -> None:
-    """SIGINT and SIGTERM raise KeyboardInterrupt: spinning ends, then the runtime shuts down. Set
-    explicitly, as a process started in the background by a shell inherits SIGINT ignored."""
-    raise KeyboardInterrupt
+
+class _StopOnSignal:
+    """SIGINT/SIGTERM handler that asks the runtime to stop (or remembers it, before there is one).
+    Set explicitly, as a process started in the background by a shell inherits SIGINT ignored."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self.runtime: SmaccRuntime | None = None
+        self._previous: dict[int, Any] = {}
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        self.requested = True
+        if self.runtime is not None:
+            self.runtime.request_stop()
+
+    def install(self) -> None:
+        self._previous = {sig: signal.signal(sig, self) for sig in STOP_SIGNALS}
+
+    def restore(self) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    stop = _StopOnSignal()
+    stop.install()  # first: a Ctrl-C while rclpy and the machine import must not print a traceback
+    try:
+        return _run(argv, stop)
+    finally:
+        stop.restore()
+
+
+def _run(argv: Sequence[str] | None, stop: _StopOnSignal) -> int:
     import rclpy
     from rclpy.signals import SignalHandlerOptions
     from rclpy.utilities import remove_ros_args
 
     from ros_tools.runtime.executor import add_executor_argument
+    from smacc_py.core import SmaccError
     from smacc_py.ros.loader import load_state_machine
     from smacc_py.ros.runtime import SmaccRuntime
     from smacc_py.ros.transition_printer import TransitionPrinter
 
     args_in = list(sys.argv if argv is None else ["smacc-run", *argv])
     parser = argparse.ArgumentParser(prog="smacc-run", description=__doc__.splitlines()[0])
-    parser.add_argument("state_machine", help="sm_nav2_test_1, a module path, or module:Class")
+    parser.add_argument("state_machine", help="sm_nav2_test_1, a module path, a .py file or package folder, "
+                                              "optionally followed by :ClassName")
     add_executor_argument(parser)
     options = parser.parse_args(remove_ros_args(args_in)[1:])
     try:
         sm_type = load_state_machine(options.state_machine)
-    except ValueError as error:
+    except ValueError as error:  # not found, or a definition error while importing the machine
         print(f"smacc-run: {error}", file=sys.stderr)
         return 2
+    if stop.requested:
+        return 0
     rclpy.init(args=args_in, signal_handler_options=SignalHandlerOptions.NO)
-    previous = {sig: signal.signal(sig, _interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
     runtime = None
     try:
         runtime = SmaccRuntime(sm_type, executor=options.executor)
+        stop.runtime = runtime
+        if stop.requested:
+            return 0
         logger = runtime.node.get_logger()
         runtime.sm.add_observer(TransitionPrinter(lambda line: logger.info(line)))
         runtime.start()
         runtime.spin()
-    except ValueError as error:  # bad parameters: the message names node, parameter and value
+    except (ValueError, SmaccError) as error:  # bad parameters or configuration: the message names them
         print(f"smacc-run: {error}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        pass
     finally:
         try:
             if runtime is not None:
                 runtime.shutdown()
         finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
             if rclpy.ok():
                 rclpy.shutdown()
     return 0

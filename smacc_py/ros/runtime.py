@@ -115,6 +115,7 @@ class SmaccRuntime:
         engine = SmaccEngineParams(signal_detector_loop_freq=self.params.signal_detector_loop_freq)
         self.ros = RosContext(self.node)
         self.sm = sm_type(params=engine, now=self.ros.now_s, **sm_kwargs)  # type: ignore[call-arg]
+        self.sm.set_logger(self.node.get_logger())  # SMACC2's getLogger() is the node's logger
         attach_ros_context(self.sm, self.ros)
         self.sm.initialize()
         self.introspection = IntrospectionPublisher(
@@ -137,6 +138,7 @@ class SmaccRuntime:
             self.ros.participant = self.participant
         self._timer: Any = None
         self._stopping = False
+        self._stop_requested = False  # request_stop(): spin() returns at its next turn
         self._shut_down = False
         self._spin_thread: int | None = None  # ident of the thread inside spin(), None when none is
         self._spinner: threading.Thread | None = None
@@ -186,7 +188,7 @@ class SmaccRuntime:
         """
         self._spin_thread = threading.get_ident()
         try:
-            while not self._stopping and self.executor.context.ok():
+            while not self._stopping and not self._stop_requested and self.executor.context.ok():
                 try:
                     self.executor.spin_once(timeout_sec=SPIN_WAKE_S)
                 except (KeyboardInterrupt, ExternalShutdownException):
@@ -197,6 +199,11 @@ class SmaccRuntime:
                     _log.exception("%s: a callback raised; the executor keeps spinning", self.sm.name)
         finally:
             self._spin_thread = None
+
+    def request_stop(self) -> None:
+        """Make ``spin()`` return after the executor turn in progress (at most SPIN_WAKE_S); safe from a
+        signal handler, as it only sets a flag. ``shutdown()`` then stops the machine."""
+        self._stop_requested = True
 
     def spin_in_background(self) -> None:
         """Spin the executor in one daemon thread: the only thread that runs callbacks and dispatch."""

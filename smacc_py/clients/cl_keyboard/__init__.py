@@ -3,6 +3,10 @@
 A key press arrives as its unicode code point; ``CbDefaultKeyboardBehavior`` posts
 ``EvKeyPress<X>[CbDefaultKeyboardBehavior, Or]`` for letters (either case; SMACC2's humble client
 mapped 'y' to EvKeyPressI, this one maps every letter to its own event). ``smacc-key n`` sends a key.
+The events have SMACC2's names, ``EvKeyPressA`` .. ``EvKeyPressZ`` (importable from here), so
+``Transition(EvKeyPressN[CbDefaultKeyboardBehavior, OrKeyboard], "StNext")`` reads as in C++;
+``key_press_event("n")`` gives the same class. SMACC2's keyboard client has no digit events, nor
+this one.
 """
 
 from __future__ import annotations
@@ -11,7 +15,37 @@ from collections.abc import Callable
 
 from std_msgs.msg import UInt16
 
-from smacc_py.core import ISmaccClient, SmaccClientBehavior, key_press_event
+from smacc_py.core import (
+    EvKeyPressA,
+    EvKeyPressB,
+    EvKeyPressC,
+    EvKeyPressD,
+    EvKeyPressE,
+    EvKeyPressF,
+    EvKeyPressG,
+    EvKeyPressH,
+    EvKeyPressI,
+    EvKeyPressJ,
+    EvKeyPressK,
+    EvKeyPressL,
+    EvKeyPressM,
+    EvKeyPressN,
+    EvKeyPressO,
+    EvKeyPressP,
+    EvKeyPressQ,
+    EvKeyPressR,
+    EvKeyPressS,
+    EvKeyPressT,
+    EvKeyPressU,
+    EvKeyPressV,
+    EvKeyPressW,
+    EvKeyPressX,
+    EvKeyPressY,
+    EvKeyPressZ,
+    ISmaccClient,
+    SmaccClientBehavior,
+    key_press_event,
+)
 from smacc_py.ros.components.signal import SmaccSignal
 from smacc_py.ros.context import ros_context
 
@@ -70,4 +104,11 @@ class CbDefaultKeyboardBehavior(SmaccClientBehavior):
         self.post_event(self.own_event(key_press_event(key)))
 
 
-__all__ = ["KEYBOARD_TOPIC", "CbDefaultKeyboardBehavior", "ClKeyboard", "key_of"]
+__all__ = [
+    "KEYBOARD_TOPIC", "CbDefaultKeyboardBehavior", "ClKeyboard", "EvKeyPressA", "EvKeyPressB",
+    "EvKeyPressC", "EvKeyPressD", "EvKeyPressE", "EvKeyPressF", "EvKeyPressG", "EvKeyPressH",
+    "EvKeyPressI", "EvKeyPressJ", "EvKeyPressK", "EvKeyPressL", "EvKeyPressM", "EvKeyPressN",
+    "EvKeyPressO", "EvKeyPressP", "EvKeyPressQ", "EvKeyPressR", "EvKeyPressS", "EvKeyPressT",
+    "EvKeyPressU", "EvKeyPressV", "EvKeyPressW", "EvKeyPressX", "EvKeyPressY", "EvKeyPressZ", "key_of",
+    "key_press_event",
+]

@@ -23,9 +23,10 @@ from smacc_py.ros.components.checks import DEFAULT_QOS_DEPTH, QosArg
 
 
 class ClMultiroleSensor(SmaccSubscriberClient):
-    """A sensor topic (``msg_type`` on ``topic``) with an optional silence watchdog ``timeout_s`` (s)."""
+    """A sensor topic (``msg_type`` on ``topic``) with an optional silence watchdog ``timeout_s`` (s); type
+    and topic may come later, as for every SmaccSubscriberClient."""
 
-    def __init__(self, msg_type: Any, topic: str, timeout_s: float | None = None,
+    def __init__(self, msg_type: Any = None, topic: str | None = None, timeout_s: float | None = None,
                  qos: QosArg = DEFAULT_QOS_DEPTH) -> None:
         super().__init__(msg_type, topic, qos=qos, timeout_s=timeout_s)
 

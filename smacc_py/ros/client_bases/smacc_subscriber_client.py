@@ -10,6 +10,11 @@ machine clock without a message, and again after each further ``timeout_s`` of s
         def __init__(self) -> None:
             super().__init__(Temperature, "/temperature", timeout_s=2.0)
 
+As SMACC2's ``SmaccSubscriberClient<Msg>()``, the topic may come later: set ``client.topic`` (or call
+``configure``) in the orthogonal's ``on_initialize``, or set the node parameter ``<ClientClass>.topic``;
+a subclass may declare its message type as a class attribute (``msg_type = Temperature``) and take no
+arguments at all (see ``late_config``).
+
 The work is done by components created in ``on_initialize`` (``CpTopicSubscriber`` and, with a
 timeout, ``CpMessageTimeout``); a subclass that overrides ``on_initialize`` must call
 ``super().on_initialize()``. SMACC2 subscribes with the sensor-data QoS; the default here is rclpy's
@@ -23,15 +28,8 @@ from collections.abc import Callable
 from typing import Any
 
 from smacc_py.core import ISmaccClient, SmaccError
-from smacc_py.ros.components.checks import (
-    DEFAULT_QOS_DEPTH,
-    QosArg,
-    check_created,
-    check_message_type,
-    check_name,
-    check_qos,
-    check_timeout,
-)
+from smacc_py.ros.client_bases import late_config
+from smacc_py.ros.components.checks import DEFAULT_QOS_DEPTH, QosArg, check_created, check_qos, check_timeout
 from smacc_py.ros.components.cp_message_timeout import CpMessageTimeout, EvTopicMessageTimeout
 from smacc_py.ros.components.cp_topic_subscriber import CpTopicSubscriber
 
@@ -39,20 +37,34 @@ __all__ = ["EvTopicMessageTimeout", "SmaccSubscriberClient"]
 
 
 class SmaccSubscriberClient(ISmaccClient):
-    """Subscriber of ``topic`` (``msg_type``, ``qos``); ``timeout_s`` (s, None: no watchdog)."""
+    """Subscriber of ``topic`` (``msg_type``, ``qos``); ``timeout_s`` (s, None: no watchdog).
 
-    def __init__(self, msg_type: Any, topic: str, qos: QosArg = DEFAULT_QOS_DEPTH,
+    ``msg_type`` and ``topic`` may be None here and given before the machine initializes (see above).
+    """
+
+    #: The message type when the constructor gets none (SMACC2's template argument).
+    msg_type: Any = None
+
+    def __init__(self, msg_type: Any = None, topic: str | None = None, qos: QosArg = DEFAULT_QOS_DEPTH,
                  timeout_s: float | None = None) -> None:
-        label = f"{type(self).__name__}({topic!r})"
-        self.msg_type = check_message_type(label, msg_type)
-        self.topic = check_name(label, "topic", topic)
-        self.qos = check_qos(label, qos)
-        self.timeout_s = check_timeout(label, "timeout_s", timeout_s)
+        self.msg_type, self.topic = late_config.check_optional(
+            self, type(self).msg_type if msg_type is None else msg_type, topic)
+        owner = late_config.label(self, topic)
+        self.qos = check_qos(owner, qos)
+        self.timeout_s = check_timeout(owner, "timeout_s", timeout_s)
         self._subscriber: CpTopicSubscriber | None = None
         self.watchdog: CpMessageTimeout | None = None
 
+    def configure(self, msg_type: Any, topic: str) -> None:
+        """Set the message type and topic before the machine initializes (SMACC2's ``topicName``)."""
+        if self._subscriber is not None:
+            raise SmaccError(f"{late_config.label(self, self.topic)}: configure() after the subscription "
+                             "was made")
+        self.msg_type, self.topic = late_config.check_optional(self, msg_type, topic)
+
     def on_initialize(self) -> None:
         """Create the subscriber component and, with ``timeout_s``, the watchdog."""
+        self.msg_type, self.topic = late_config.resolve(self, self.msg_type, self.topic, "subscribe to")
         self._subscriber = self.create_component(CpTopicSubscriber, self.msg_type, self.topic, self.qos)
         if self.timeout_s is not None:
             self.watchdog = self.create_component(CpMessageTimeout, self.timeout_s)
