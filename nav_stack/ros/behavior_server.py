@@ -1,4 +1,4 @@
-"""behavior_server: the spin, backup, drive_on_heading and wait actions (Nav2 Jazzy names and codes).
+"""behavior_server: spin, backup, drive_on_heading, assisted_teleop and wait (Nav2 Jazzy names and codes).
 
 Each behavior is a core state machine stepped at ``cycle_frequency`` by a timer on the node clock
 (sim time in simulation) with the robot pose in ``local_frame`` from TF. Like Nav2's behaviors, the
@@ -7,6 +7,11 @@ received as ``local_costmap/costmap_raw`` with the robot outline from
 ``local_costmap/published_footprint`` (converted to the robot frame when a goal starts; a 0.22 m
 circle until one arrives), and end with COLLISION_AHEAD. TIMEOUT after ``time_allowance``,
 TF_ERROR when the pose is unknown, INVALID_INPUT for BackUp/DriveOnHeading targets off the x axis.
+
+AssistedTeleop forwards the last command heard on ``cmd_vel_teleop`` (Twist, or TwistStamped with
+``enable_stamped_cmd_vel``) to cmd_vel, scaled down so that ``projection_time`` s of it, checked every
+``simulation_time_step`` s, stay clear of the local costmap (nav_stack.core.behaviors.assisted_teleop);
+a message on ``preempt_teleop`` (std_msgs/Empty) ends it with success, ``time_allowance`` with TIMEOUT.
 
 One behavior runs at a time (they share cmd_vel): a new goal of any behavior aborts the running
 one. A cancel publishes a zero command at once; every end publishes a zero command.
@@ -20,12 +25,13 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from geometry_msgs.msg import PolygonStamped
-from nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
+from geometry_msgs.msg import PolygonStamped, Twist, TwistStamped
+from nav2_msgs.action import AssistedTeleop, BackUp, DriveOnHeading, Spin, Wait
 from nav2_msgs.msg import Costmap
 from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from std_msgs.msg import Empty
 
 from nav_stack.core import behaviors
 from nav_stack.core.behaviors import BehaviorParams, BehaviorResult
@@ -38,8 +44,8 @@ from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.param_layout import param
 from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import LATCHED
-from ros_tools.cmd_vel import CmdVelPublisher
+from nav_stack.ros.qos import DEFAULT, LATCHED
+from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.timers import create_periodic_timer
 
@@ -48,9 +54,11 @@ BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
     "Spin": (Spin, int(behaviors.SpinErrorCode.TF_ERROR)),
     "BackUp": (BackUp, int(behaviors.BackUpErrorCode.TF_ERROR)),
     "DriveOnHeading": (DriveOnHeading, int(behaviors.DriveOnHeadingErrorCode.TF_ERROR)),
+    "AssistedTeleop": (AssistedTeleop, int(behaviors.AssistedTeleopErrorCode.TF_ERROR)),
     "Wait": (Wait, 0),
 }
-DEFAULT_TYPES = {"spin": "Spin", "backup": "BackUp", "drive_on_heading": "DriveOnHeading", "wait": "Wait"}
+DEFAULT_TYPES = {"spin": "Spin", "backup": "BackUp", "drive_on_heading": "DriveOnHeading",
+                 "assisted_teleop": "AssistedTeleop", "wait": "Wait"}
 
 
 @dataclass(frozen=True)
@@ -82,6 +90,7 @@ class BehaviorServer(NavLifecycleNode):
         self._current: _BehaviorRun | None = None
         self._grid: CostGrid | None = None
         self._footprint_msg: PolygonStamped | None = None
+        self._teleops: dict[str, behaviors.AssistedTeleop] = {}  # per plugin id, kept across goals as Nav2's
         self._active = False
 
     # -- lifecycle ---------------------------------------------------------------------------------
@@ -102,10 +111,25 @@ class BehaviorServer(NavLifecycleNode):
                 raise ValueError(f"behavior_server: {name}.plugin '{plugin}' is not one of "
                                  f"{sorted(BEHAVIOR_TYPES)}")
             action_type, tf_error = BEHAVIOR_TYPES[kind]
+            if kind == "AssistedTeleop":
+                self._add_teleop(name)
             self._servers.append(ActionServer(
-                self, action_type, name, partial(self._execute, kind=kind, tf_error=tf_error),
+                self, action_type, name, partial(self._execute, kind=kind, tf_error=tf_error, name=name),
                 goal_callback=self._accept_goal, cancel_callback=self._cancel,
                 result_timeout=round(p.action_server_result_timeout)))
+
+    def _add_teleop(self, name: str) -> None:
+        """The AssistedTeleop of plugin ``name``; the first one also declares the node-level parameters
+        (Nav2's names, shared by every AssistedTeleop) and subscribes to the operator's topics."""
+        if not self._teleops:
+            self._teleop_params = declare_dataclass(self, behaviors.AssistedTeleopParams)
+            twist_type = TwistStamped if self.params.enable_stamped_cmd_vel else Twist
+            topic = str(param(self, "cmd_vel_teleop", "cmd_vel_teleop"))
+            self._subs += [
+                self.create_subscription(twist_type, topic, self._on_teleop, CMD_VEL_QOS),
+                self.create_subscription(Empty, "preempt_teleop", self._on_preempt_teleop, DEFAULT),
+            ]
+        self._teleops[name] = behaviors.AssistedTeleop(self._teleop_params)
 
     def activate(self) -> None:
         self._timer = create_periodic_timer(self, 1.0 / self.behavior_params.cycle_frequency, self._cycle)
@@ -115,7 +139,7 @@ class BehaviorServer(NavLifecycleNode):
         self._active = False
         self.destroy_timer(self._timer)
         if self._current is not None:
-            self._current.finish(Outcome.ABORTED, 0, "behavior_server deactivated")
+            self._release(self._current, "behavior_server deactivated")
             self._current = None
         self._cmd.stop()
 
@@ -124,6 +148,7 @@ class BehaviorServer(NavLifecycleNode):
             server.destroy()
         for sub in self._subs:
             self.destroy_subscription(sub)
+        self._teleops = {}
         self._cmd.destroy()
         self.frames.destroy()
 
@@ -138,6 +163,15 @@ class BehaviorServer(NavLifecycleNode):
 
     def _on_footprint(self, msg: PolygonStamped) -> None:
         self._footprint_msg = msg
+
+    def _on_teleop(self, msg: Twist | TwistStamped) -> None:
+        twist = msg.twist if isinstance(msg, TwistStamped) else msg
+        for teleop in self._teleops.values():
+            teleop.teleop(behaviors.TeleopCommand(twist.linear.x, twist.linear.y, twist.angular.z))
+
+    def _on_preempt_teleop(self, msg: Empty) -> None:
+        for teleop in self._teleops.values():
+            teleop.preempt()
 
     def _footprint(self) -> Any:
         """The robot outline in the robot frame, from the last published footprint (Nav2's way)."""
@@ -159,9 +193,13 @@ class BehaviorServer(NavLifecycleNode):
     def _now(self) -> float:
         return float(self.get_clock().now().nanoseconds * 1e-9)
 
-    def _start(self, handle: Any, kind: str, tf_error: int) -> _BehaviorRun:
+    def _start(self, handle: Any, kind: str, tf_error: int, name: str) -> _BehaviorRun:
         goal, action_type = handle.request, BEHAVIOR_TYPES[kind][0]
         params = self.behavior_params
+        if kind == "AssistedTeleop":
+            teleop = self._teleops[name]
+            teleop.start(duration_to_seconds(goal.time_allowance), self._now(), self._footprint())
+            return _BehaviorRun(handle, action_type.Result(), teleop, kind, tf_error)
         if kind == "Wait":
             behavior: Any = behaviors.Wait()
             run = _BehaviorRun(handle, action_type.Result(), behavior, kind, tf_error)
@@ -188,16 +226,23 @@ class BehaviorServer(NavLifecycleNode):
             run.finish(Outcome.ABORTED, refused.error_code, refused.error_msg)
         return run
 
-    async def _execute(self, handle: Any, kind: str, tf_error: int) -> Any:
-        run = self._start(handle, kind, tf_error)
+    async def _execute(self, handle: Any, kind: str, tf_error: int, name: str = "") -> Any:
+        run = self._start(handle, kind, tf_error, name)
         if not run.finished:
             if self._current is not None:
-                self._current.finish(Outcome.ABORTED, 0, f"preempted by a new {kind} goal")
+                self._release(self._current, f"preempted by a new {kind} goal", successor=run)
             self._current = run
             if self._active:
                 self._timer.reset()  # the cycle sleeps while no goal runs
             self.get_logger().info(f"running {kind}")
         return await run.wait()
+
+    def _release(self, run: _BehaviorRun, reason: str, successor: _BehaviorRun | None = None) -> None:
+        """Abort a run that did not end by itself (error code 0, ``reason``); an AssistedTeleop forgets
+        its command unless the goal that takes over is another goal of the same plugin."""
+        if run.kind == "AssistedTeleop" and (successor is None or successor.behavior is not run.behavior):
+            run.behavior.finish()
+        run.finish(Outcome.ABORTED, 0, reason)
 
     def _cancel(self, handle: Any) -> CancelResponse:
         run = self._current
@@ -218,6 +263,9 @@ class BehaviorServer(NavLifecycleNode):
                 self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0))
             return
         now = self._now()
+        if run.kind == "AssistedTeleop":
+            self._teleop_cycle(run, now)
+            return
         if run.kind == "Wait":
             outcome = run.behavior.step(now)
             run.handle.publish_feedback(Wait.Feedback(time_left=duration_msg(run.behavior.time_left)))
@@ -236,6 +284,24 @@ class BehaviorServer(NavLifecycleNode):
         self._cmd.publish(step.vx, step.wz)
         self._feedback(run)
 
+    def _teleop_cycle(self, run: _BehaviorRun, now: float) -> None:
+        """Nav2's order: feedback, end (time allowance, preempt), pose, the scaled command."""
+        teleop = run.behavior
+        end = teleop.check(now)
+        run.handle.publish_feedback(
+            AssistedTeleop.Feedback(current_teleop_duration=duration_msg(teleop.current_teleop_duration)))
+        if end is not None:
+            self._end(run, Outcome.SUCCEEDED if end.succeeded else Outcome.ABORTED, end)
+            return
+        try:
+            pose = self.frames.robot_pose(self.params.local_frame)
+        except FrameError as error:
+            self._end(run, Outcome.ABORTED,
+                      BehaviorResult(run.tf_error, str(error), teleop.current_teleop_duration))
+            return
+        cmd = teleop.command(pose, self._grid)
+        self._cmd.publish(cmd.vx, cmd.wz, vy=cmd.vy)
+
     def _feedback(self, run: _BehaviorRun) -> None:
         action_type = BEHAVIOR_TYPES[run.kind][0]
         feedback = action_type.Feedback()
@@ -248,6 +314,8 @@ class BehaviorServer(NavLifecycleNode):
     def _end(self, run: _BehaviorRun, outcome: Outcome, result: BehaviorResult) -> None:
         if run.kind != "Wait":
             self._cmd.stop()
+        if run.kind == "AssistedTeleop":
+            run.behavior.finish()
         if outcome is Outcome.ABORTED:
             self.get_logger().warn(f"{run.kind} failed ({result.error_code}): {result.error_msg}")
         run.result.total_elapsed_time = duration_msg(result.total_elapsed_time)

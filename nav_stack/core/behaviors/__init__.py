@@ -1,5 +1,12 @@
-"""Recovery behaviors as pure state machines (spin, back up, drive on heading, wait)."""
+"""Recovery behaviors as pure state machines (spin, back up, drive on heading, wait, assisted teleop)."""
 
+from nav_stack.core.behaviors.assisted_teleop import (
+    AssistedTeleop,
+    AssistedTeleopErrorCode,
+    AssistedTeleopParams,
+    TeleopCommand,
+    teleop_scale,
+)
 from nav_stack.core.behaviors.base import (
     BackUpErrorCode,
     BehaviorParams,
@@ -13,6 +20,9 @@ from nav_stack.core.behaviors.spin import Spin, SpinGoal, spin_speed
 from nav_stack.core.behaviors.wait import Wait
 
 __all__ = [
+    "AssistedTeleop",
+    "AssistedTeleopErrorCode",
+    "AssistedTeleopParams",
     "BackUp",
     "BackUpErrorCode",
     "BehaviorParams",
@@ -24,6 +34,8 @@ __all__ = [
     "Spin",
     "SpinErrorCode",
     "SpinGoal",
+    "TeleopCommand",
     "Wait",
     "spin_speed",
+    "teleop_scale",
 ]

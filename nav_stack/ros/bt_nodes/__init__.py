@@ -21,12 +21,14 @@ from nav_stack.ros.bt_nodes.conditions import RemovePassedGoals, SelectorTopics
 from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, code_name
 from nav_stack.ros.bt_nodes.docking import DockRobotAction, UndockRobotAction
 from nav_stack.ros.bt_nodes.services import ClearEntireCostmapService
+from nav_stack.ros.bt_nodes.smooth_path import SmoothPathAction
 
 #: Nav2 BT node id -> leaf class
 ROS_LEAVES: dict[str, type[TreeNode]] = {
     "ComputePathToPose": ComputePathToPoseAction,
     "ComputePathThroughPoses": ComputePathThroughPosesAction,
     "FollowPath": FollowPathAction,
+    "SmoothPath": SmoothPathAction,
     "Spin": SpinAction,
     "BackUp": BackUpAction,
     "DriveOnHeading": DriveOnHeadingAction,
