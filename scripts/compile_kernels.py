@@ -15,12 +15,14 @@ import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 
+from nav_stack.core.control.mppi import kernels_jit as mppi_kernels_jit
 from nav_stack.core.costmap import inflation_jit, raytrace_jit
 from nav_stack.core.planning import grid_search_jit, theta_star_jit
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
 
 KERNELS = {  # the slowest first, so that it starts at once in a pool
     "SLAM pose-graph solve": pose_graph_jit.warm_up,
+    "MPPI controller (rollout, critics, noise)": mppi_kernels_jit.warm_up,
     "grid search (NavFn A*/Dijkstra)": grid_search_jit.warm_up,
     "Theta*": theta_star_jit.warm_up,
     "costmap inflation": inflation_jit.warm_up,

@@ -4,7 +4,11 @@ Plugin ids come from ``controller_plugins``, ``goal_checker_plugins``, ``progres
 each id's type from ``<id>.plugin`` (Nav2 class names, ``::`` or Humble's ``/``), its knobs from
 ``<id>.<knob>``. DWB critic knobs use Nav2's spelling (``FollowPath.PathAlign.scale``). RPP's
 inscribed radius comes from the local costmap, its goal distance from the goal checker and its
-rate from ``controller_frequency``, as in Nav2, not from its own parameters.
+rate from ``controller_frequency``, as in Nav2, not from its own parameters. MPPI's knobs are
+``<id>.<knob>``, its critics' ``<id>.<Critic>.<knob>`` (``FollowPath.CostCritic.cost_weight``), its
+Ackermann radius ``<id>.AckermannConstraints.min_turning_r``, its visualisation's
+``<id>.TrajectoryVisualizer.*``; the local costmap's inflation layer gives what its critics need to
+know of the inflation, as in Nav2.
 """
 
 from __future__ import annotations
@@ -16,22 +20,30 @@ from typing import Any
 from rclpy.node import Node
 
 from nav_stack.core.control import (
+    MPPI_CRITIC_PARAMS,
+    AckermannConstraints,
     ControllerPlugins,
     DWBController,
     DWBParams,
     Footprint,
     GoalCheckerParams,
+    MPPIController,
+    MPPIParams,
     ProgressCheckerParams,
     RegulatedPurePursuit,
     RPPParams,
     SimpleGoalChecker,
     SimpleProgressChecker,
     StoppedGoalChecker,
+    TrajectoryVisualizerParams,
 )
+from nav_stack.core.control.mppi import kernels_jit as mppi_kernels
 from nav_stack.core.control.rotation_shim import RotationShim, RotationShimParams
 from nav_stack.core.control.server import LocalController
+from nav_stack.core.costmap.inflation_layer import InflationLayer
 from nav_stack.ros.param_layout import build, declare_fields, declare_renamed, param
 from nav_stack.ros.params import declare_dataclass, on_dataclass_update
+from nav_stack.ros.plugin_catalog import CONTROLLERS, class_name
 
 DWB_CRITIC_NAMES = {
     "base_obstacle_scale": "BaseObstacle.scale",
@@ -52,12 +64,15 @@ DWB_CRITIC_NAMES = {
 }
 RPP_FROM_SERVER = ("inscribed_radius", "goal_dist_tol", "controller_frequency")
 SHIM_FROM_SERVER = ("goal_dist_tol", "controller_frequency")
-CONTROLLER_TYPES = ["DWBLocalPlanner", "RegulatedPurePursuitController", "RotationShimController"]
+MPPI_FROM_SERVER = ("goal_dist_tol", "controller_frequency")
+CONTROLLER_TYPES = list(CONTROLLERS)
+PRIMARY_TYPES = ("DWBLocalPlanner", "RegulatedPurePursuitController", "MPPIController")
 DEFAULT_TYPES = {
     "FollowPath": "dwb_core::DWBLocalPlanner",
     "DWB": "dwb_core::DWBLocalPlanner",
     "RPP": "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController",
     "RotationShim": "nav2_rotation_shim_controller::RotationShimController",
+    "MPPI": "nav2_mppi_controller::MPPIController",
     "general_goal_checker": "nav2_controller::SimpleGoalChecker",
     "goal_checker": "nav2_controller::SimpleGoalChecker",
     "stopped_goal_checker": "nav2_controller::StoppedGoalChecker",
@@ -65,13 +80,8 @@ DEFAULT_TYPES = {
 }
 
 
-def _class_name(plugin_type: str) -> str:
-    """``dwb_core::DWBLocalPlanner`` (or the ROS 1 ``dwb_core/DWBLocalPlanner``) → ``DWBLocalPlanner``."""
-    return plugin_type.replace("/", "::").split("::")[-1]
-
-
 def _kind(node: Node, plugin_id: str) -> str:
-    return _class_name(str(param(node, f"{plugin_id}.plugin", DEFAULT_TYPES.get(plugin_id, ""))))
+    return class_name(str(param(node, f"{plugin_id}.plugin", DEFAULT_TYPES.get(plugin_id, ""))))
 
 
 def _unknown(node: Node, plugin_id: str, kind: str, known: Sequence[str]) -> ValueError:
@@ -93,6 +103,41 @@ def _rpp(
     return RegulatedPurePursuit(build(node, RPPParams, values, plugin_id), footprint)
 
 
+def _inflation(node: Node, layer_name: str) -> tuple[float, float] | None:
+    """(inflation_radius m, cost_scaling_factor) of the local costmap's inflation layer named
+    ``layer_name`` ("" = the last one), None without one (Nav2's InflationLayer::getInflationLayer)."""
+    costmap = getattr(getattr(node, "costmap_node", None), "costmap", None)
+    layers = [layer for layer in getattr(costmap, "layers", ()) if isinstance(layer, InflationLayer)]
+    if layer_name:
+        layers = [layer for layer in layers if layer.name == layer_name]
+    if not layers:
+        return None
+    return layers[-1].params.inflation_radius, layers[-1].params.cost_scaling_factor
+
+
+def _mppi(node: Node, cid: str, footprint: Footprint, server: dict[str, Any]) -> MPPIController:
+    """MPPI with its ``<cid>.*`` knobs, one parameter set per listed critic (``<cid>.<Critic>.*``)."""
+    own = [f.name for f in dataclasses.fields(MPPIParams) if f.name not in MPPI_FROM_SERVER]
+    values = declare_fields(node, MPPIParams, own, f"{cid}.") | {k: server[k] for k in MPPI_FROM_SERVER}
+    params: MPPIParams = build(node, MPPIParams, values, cid)
+    obstacle_critics = [name for name in params.critics if name in ("CostCritic", "ObstaclesCritic")]
+    layer_name = str(param(node, f"{cid}.{obstacle_critics[0]}.inflation_layer_name", "")) \
+        if obstacle_critics else ""
+    inflation = _inflation(node, layer_name)
+    critics: dict[str, Any] = {}
+    for name in params.critics:
+        defaults = {}
+        if name == "ObstaclesCritic" and inflation is not None:  # Jazzy reads these from the layer
+            defaults = {"inflation_radius": inflation[0], "cost_scaling_factor": inflation[1]}
+        critics[name] = declare_dataclass(node, MPPI_CRITIC_PARAMS[name], f"{cid}.{name}.", **defaults)
+    mppi_kernels.warm_up()  # load the compiled kernels now, not in the first control cycle
+    return MPPIController(
+        params, critics, footprint,
+        ackermann=declare_dataclass(node, AckermannConstraints, f"{cid}.AckermannConstraints."),
+        visualizer=declare_dataclass(node, TrajectoryVisualizerParams, f"{cid}.TrajectoryVisualizer."),
+        inscribed_radius=server["inscribed_radius"], inflation=inflation)
+
+
 def _controller(
     node: Node, cid: str, kind: str, footprint: Footprint, server: dict[str, Any]
 ) -> LocalController:
@@ -102,13 +147,15 @@ def _controller(
         return _dwb(node, cid, footprint)
     if kind == "RegulatedPurePursuitController":
         return _rpp(node, cid, footprint, {k: server[k] for k in RPP_FROM_SERVER})
+    if kind == "MPPIController":
+        return _mppi(node, cid, footprint, server)
     if kind == "RotationShimController":
         primary_type = str(param(node, f"{cid}.primary_controller", ""))
-        primary_kind = _class_name(primary_type)
-        if primary_kind not in ("DWBLocalPlanner", "RegulatedPurePursuitController"):
+        primary_kind = class_name(primary_type)
+        if primary_kind not in PRIMARY_TYPES:
             raise ValueError(f"{node.get_name()}: {cid}.primary_controller '{primary_type}' is not "
-                             "dwb_core::DWBLocalPlanner or nav2_regulated_pure_pursuit_controller::"
-                             "RegulatedPurePursuitController")
+                             "dwb_core::DWBLocalPlanner, nav2_regulated_pure_pursuit_controller::"
+                             "RegulatedPurePursuitController or nav2_mppi_controller::MPPIController")
         primary = _controller(node, cid, primary_kind, footprint, server)
         own = [f.name for f in dataclasses.fields(RotationShimParams) if f.name not in SHIM_FROM_SERVER]
         values = declare_fields(node, RotationShimParams, own, f"{cid}.")
@@ -160,6 +207,24 @@ def take_param_updates(node: Node, controllers: Mapping[str, LocalController]) -
             callbacks.append(on_dataclass_update(node, type(controller.params), f"{cid}.",
                                                  _params_of(controller),
                                                  _replace_params(node, cid, controller), renames))
+            if isinstance(controller, MPPIController):
+                callbacks.extend(_mppi_critic_updates(node, cid, controller))
+    return callbacks
+
+
+def _mppi_critic_updates(node: Node, cid: str, controller: MPPIController) -> list[Any]:
+    """``ros2 param set /controller_server FollowPath.CostCritic.cost_weight 5.0``: the critic's new
+    parameters from the next cycle (the optimizer starts over, as Nav2's does)."""
+    callbacks = []
+    for name, current in controller.critic_params.items():
+        def replace(params: Any, name: str = name) -> None:
+            controller.set_critic_params(name, params)
+            node.get_logger().info(f"{cid}.{name}: parameters updated")
+
+        def now(name: str = name) -> Any:
+            return controller.critic_params[name]
+
+        callbacks.append(on_dataclass_update(node, type(current), f"{cid}.{name}.", now, replace))
     return callbacks
 
 

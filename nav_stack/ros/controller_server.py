@@ -54,6 +54,7 @@ from nav_stack.ros.costmap_ros import CostmapROS, run_transition
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.goal_runs import GoalRun, Outcome
 from nav_stack.ros.lifecycle import NavLifecycleNode
+from nav_stack.ros.mppi_visualization import MPPIVisualization
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT
@@ -137,6 +138,7 @@ class ControllerServer(NavLifecycleNode):
         self._param_callbacks = take_param_updates(self, self.plugins.controllers)
         self._cmd = CmdVelPublisher(self, p.enable_stamped_cmd_vel, cp.robot_base_frame)
         self._pub_local_plan = self.create_publisher(Path, "local_plan", DEFAULT)
+        self._mppi_visualization = MPPIVisualization(self, self.plugins.controllers)
         self._selectors = [Selector(self, "controller_selector"), Selector(self, "goal_checker_selector")]
         self._odom_sub = self.create_subscription(Odometry, p.odom_topic, self._on_odom, DEFAULT)
         self._response = ResponseMonitor(self, p.response_timeout, p.battery_topic)
@@ -167,6 +169,7 @@ class ControllerServer(NavLifecycleNode):
         self.destroy_subscription(self._odom_sub)
         self._response.destroy()
         self.destroy_publisher(self._pub_local_plan)
+        self._mppi_visualization.destroy()
         self._cmd.destroy()
         run_transition(self.costmap_node, "cleanup")
 
@@ -324,6 +327,7 @@ class ControllerServer(NavLifecycleNode):
         if trajectory is not None and len(trajectory):
             stamp = self.get_clock().now().to_msg()
             self._pub_local_plan.publish(path_from_array(trajectory, local_frame, stamp))
+            self._mppi_visualization.publish(controller, local_frame, stamp)
         feedback = FollowPath.Feedback()
         feedback.distance_to_goal = float(run.handler.distance_to_goal(robot))
         feedback.speed = float(self._speed)

@@ -1,4 +1,4 @@
-"""Local controllers (DWB, Regulated Pure Pursuit), path handling and goal/progress checkers."""
+"""Local controllers (DWB, Regulated Pure Pursuit, MPPI), path handling and goal/progress checkers."""
 
 from nav_stack.core.control.base import (
     CircleFootprint,
@@ -20,6 +20,16 @@ from nav_stack.core.control.checkers import (
     StoppedGoalChecker,
 )
 from nav_stack.core.control.dwb import DWBController, DWBParams
+from nav_stack.core.control.mppi import (
+    CRITIC_PARAMS as MPPI_CRITIC_PARAMS,
+)
+from nav_stack.core.control.mppi import (
+    AckermannConstraints,
+    MPPIController,
+    MPPIParams,
+    TrajectoryVisualizerParams,
+    trajectory_markers,
+)
 from nav_stack.core.control.path_handler import PathHandler, PathHandlerParams
 from nav_stack.core.control.rpp import RegulatedPurePursuit
 from nav_stack.core.control.rpp_params import RPPParams
@@ -27,6 +37,8 @@ from nav_stack.core.control.server import ControllerPlugins, InvalidController, 
 
 __all__ = [
     "FINAL_TURN_PROGRESS",
+    "MPPI_CRITIC_PARAMS",
+    "AckermannConstraints",
     "CircleFootprint",
     "ControllerError",
     "ControllerErrorCode",
@@ -39,6 +51,8 @@ __all__ = [
     "InvalidController",
     "InvalidPath",
     "LocalController",
+    "MPPIController",
+    "MPPIParams",
     "NoValidControl",
     "PathHandler",
     "PathHandlerParams",
@@ -49,5 +63,7 @@ __all__ = [
     "SimpleGoalChecker",
     "SimpleProgressChecker",
     "StoppedGoalChecker",
+    "TrajectoryVisualizerParams",
     "Twist2D",
+    "trajectory_markers",
 ]
