@@ -23,8 +23,9 @@ NAVIGATION_NODES = ("controller_server", "smoother_server", "planner_server", "b
 OPTIONAL_NODES = frozenset({"smoother_server", "velocity_smoother", "collision_monitor", "docking_server"})
 
 #: The servers this stack has (grows as servers are added).
-AVAILABLE_NODES = frozenset({"map_server", "amcl", "controller_server", "planner_server", "behavior_server",
-                             "velocity_smoother", "bt_navigator", "waypoint_follower", "docking_server"})
+AVAILABLE_NODES = frozenset({"map_server", "amcl", "controller_server", "smoother_server", "planner_server",
+                             "behavior_server", "velocity_smoother", "collision_monitor", "bt_navigator",
+                             "waypoint_follower", "docking_server"})
 
 #: Nav2 nodes a parameter file may configure that nav-bringup never starts: they are left alone,
 #: with a note in the log (Nav2's own file configures several of them for other launch files).
@@ -61,34 +62,41 @@ class PluginList:
     type_key: str = "plugin"
 
 
-CONTROLLERS = ("DWBLocalPlanner", "RegulatedPurePursuitController", "RotationShimController")
+CONTROLLERS = ("DWBLocalPlanner", "RegulatedPurePursuitController", "RotationShimController",
+               "MPPIController")
 GOAL_CHECKERS = ("SimpleGoalChecker", "StoppedGoalChecker")
 PROGRESS_CHECKERS = ("SimpleProgressChecker",)
 PLANNERS = ("NavfnPlanner", "ThetaStarPlanner")
-BEHAVIORS = ("Spin", "BackUp", "DriveOnHeading", "Wait")
+BEHAVIORS = ("Spin", "BackUp", "DriveOnHeading", "Wait", "AssistedTeleop")
+SMOOTHERS = ("SimpleSmoother",)
 COSTMAP_LAYERS = ("StaticLayer", "ObstacleLayer", "VoxelLayer", "InflationLayer")
 NAVIGATORS = ("NavigateToPoseNavigator", "NavigateThroughPosesNavigator")
 WAYPOINT_TASK_EXECUTORS = ("WaitAtWaypoint",)
 AMCL_MOTION_MODELS = ("DifferentialMotionModel", "OmniMotionModel")
 DOCKS = ("SimpleChargingDock", "SimpleNonChargingDock")
+COLLISION_POLYGONS = ("polygon", "circle")
 
 _LAYER_DEFAULTS = (("static_layer", "StaticLayer"), ("obstacle_layer", "ObstacleLayer"),
                    ("voxel_layer", "VoxelLayer"), ("inflation_layer", "InflationLayer"))
 
 PLUGIN_LISTS: tuple[PluginList, ...] = (
     PluginList("controller_server", "controller_plugins", ("FollowPath",), CONTROLLERS,
-               (("FollowPath", "DWBLocalPlanner"),)),
+               (("FollowPath", "DWBLocalPlanner"), ("DWB", "DWBLocalPlanner"),
+                ("RPP", "RegulatedPurePursuitController"), ("RotationShim", "RotationShimController"),
+                ("MPPI", "MPPIController"))),
     PluginList("controller_server", "goal_checker_plugins", ("general_goal_checker",), GOAL_CHECKERS,
                (("general_goal_checker", "SimpleGoalChecker"), ("goal_checker", "SimpleGoalChecker"),
                 ("stopped_goal_checker", "StoppedGoalChecker"))),
     PluginList("controller_server", "progress_checker_plugins", ("progress_checker",), PROGRESS_CHECKERS,
                (("progress_checker", "SimpleProgressChecker"),)),
     PluginList("planner_server", "planner_plugins", ("GridBased",), PLANNERS,
-               (("GridBased", "NavfnPlanner"),)),
+               (("GridBased", "NavfnPlanner"), ("ThetaStar", "ThetaStarPlanner"))),
     PluginList("behavior_server", "behavior_plugins", ("spin", "backup", "drive_on_heading", "wait"),
                BEHAVIORS,
                (("spin", "Spin"), ("backup", "BackUp"), ("drive_on_heading", "DriveOnHeading"),
-                ("wait", "Wait"))),
+                ("assisted_teleop", "AssistedTeleop"), ("wait", "Wait"))),
+    PluginList("smoother_server", "smoother_plugins", ("simple_smoother",), SMOOTHERS,
+               (("simple_smoother", "SimpleSmoother"),)),
     PluginList("local_costmap/local_costmap", "plugins", ("obstacle_layer", "inflation_layer"),
                COSTMAP_LAYERS, _LAYER_DEFAULTS),
     PluginList("global_costmap/global_costmap", "plugins",
@@ -97,6 +105,7 @@ PLUGIN_LISTS: tuple[PluginList, ...] = (
                (("navigate_to_pose", "NavigateToPoseNavigator"),
                 ("navigate_through_poses", "NavigateThroughPosesNavigator"))),
     PluginList("docking_server", "dock_plugins", (), DOCKS),
+    PluginList("collision_monitor", "polygons", (), COLLISION_POLYGONS, type_key="type"),
     PluginList("waypoint_follower", "waypoint_task_executor_plugin", ("wait_at_waypoint",),
                WAYPOINT_TASK_EXECUTORS, (("wait_at_waypoint", "WaitAtWaypoint"),)),
 )
