@@ -124,7 +124,7 @@ def main() -> int:
     bench = Benchmark("large_world")
     extra = ("--map", str(map_path), "--log-dir", str(log_dir))
     with Stack(str(world), args.robot, params, "max", True, "bench_large_world", extra) as stack:
-        run = run_goals(stack.driver, candidates, rng, start, args.goals, ideal_speed(params),
+        run = run_goals(stack.driver, candidates, rng, start, args.goals, ideal_speed(params, args.robot),
                         lambda record: _print_goal(record, args.goals), min_distance=args.min_distance)
     warnings = budget_warnings(log_dir)
     for line in warnings[:10]:

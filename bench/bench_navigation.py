@@ -121,7 +121,7 @@ def main() -> int:
     print(f"navigation: code {version}", flush=True)
     rng = np.random.default_rng(args.seed)
     candidates = free_poses(map_yaml(args.world), MIN_CLEARANCE)
-    speed = ideal_speed(params)
+    speed = ideal_speed(params, args.robot)
     start = world_defaults(args.world).spawn[:2]
     bench = Benchmark("navigation")
     interrupted = threading.Event()  # Ctrl-C: finish the current goal, record what was measured

@@ -91,7 +91,7 @@ def run_config(config: Config, seed: int, args: argparse.Namespace, done_before:
     result = ConfigResult(config)
     try:
         candidates = free_poses(map_yaml(config.world), MIN_CLEARANCE)
-        speed = ideal_speed(params)
+        speed = ideal_speed(params, config.robot)
         start = world_defaults(config.world).spawn[:2]
         rng = np.random.default_rng(seed)
         with Stack(config.world, config.robot, params, args.rtf, args.lockstep, "bench_soak") as stack:

@@ -73,16 +73,38 @@ def free_poses(map_path: Path, min_clearance: float) -> np.ndarray:
     return np.column_stack((xs, ys))
 
 
-def ideal_speed(params: Path) -> float:
-    """The controller's cruise speed (m/s): ``desired_linear_vel`` of controller_server's first plugin."""
+#: A controller plugin's cruise-speed parameter (m/s), by Nav2 class name.
+CRUISE_KEYS = {"RegulatedPurePursuitController": "desired_linear_vel", "MPPIController": "vx_max",
+               "DWBLocalPlanner": "max_vel_x"}
+
+
+def ideal_speed(params: Path, robot: str | None = None) -> float:
+    """The speed (m/s) the velocity chain lets the robot cruise at: the lowest of its first controller's
+    cruise speed (RPP ``desired_linear_vel``, MPPI ``vx_max``, DWB ``max_vel_x``, also behind a rotation
+    shim), velocity_smoother's ``max_velocity[0]`` when the file configures it, and ``robot``'s own
+    limit (sim2d's model; Nav2's file caps MPPI at 0.5 m/s, the waffle drives at 0.26 m/s)."""
+    from nav_stack.ros.plugin_catalog import class_name
+
     doc = yaml.safe_load(params.read_text())
     try:
         server = doc["controller_server"]["ros__parameters"]
         plugin = server.get("controller_plugins", ["FollowPath"])[0]
-        return float(server[plugin]["desired_linear_vel"])
+        section = server[plugin]
+        kind = class_name(section.get("plugin", "DWBLocalPlanner"))
+        if kind == "RotationShimController":
+            kind = class_name(section["primary_controller"])
+        speeds = [float(section[CRUISE_KEYS[kind]])]
     except (KeyError, TypeError, IndexError, ValueError) as error:
-        raise ValueError(f"{params}: controller_server.ros__parameters.<first controller_plugins>"
-                         f".desired_linear_vel not found ({error!r})") from error
+        raise ValueError(f"{params}: controller_server.ros__parameters.<first controller_plugins>: no "
+                         f"cruise speed ({', '.join(CRUISE_KEYS.values())}) found ({error!r})") from error
+    smoother = (doc.get("velocity_smoother") or {}).get("ros__parameters") or {}
+    if "max_velocity" in smoother:
+        speeds.append(float(smoother["max_velocity"][0]))
+    if robot is not None:
+        from sim2d.core.robot import ROBOTS
+
+        speeds.append(ROBOTS[robot].max_linear_velocity)
+    return min(speeds)
 
 
 def _watch(proc: subprocess.Popen[str], ready: threading.Event) -> None:

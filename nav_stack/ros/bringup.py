@@ -106,18 +106,32 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _names_a_map(files: Sequence[str]) -> bool:
+    """Whether the parameter files set map_server's ``yaml_filename`` (Nav2's own file leaves it empty:
+    nav2_bringup's ``map`` launch argument fills it). A file that does not parse counts as naming
+    none here; the parameter check reports it."""
+    from nav_stack.ros.param_files import NavParams, ParamFileError
+
+    try:
+        return bool(NavParams([Path(f) for f in files]).get("map_server", "yaml_filename"))
+    except (ParamFileError, OSError):
+        return False
+
+
 def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
     """Fill --world, --map and the spawn the user left out from the world (nav_stack.ros.world_defaults).
 
     The world's map (an absolute path) replaces the parameter file's ``yaml_filename`` when the user
-    chose the world or left --params to the robot's shipped file: that file's relative
-    ``maps/turtlebot3_world.yaml`` would only load when started from the repository.
+    chose the world, left --params to the robot's shipped file (its relative
+    ``maps/turtlebot3_world.yaml`` would only load when started from the repository), or gave files
+    that name no map, as Nav2's own file does (nav2_bringup passes its ``map`` argument then).
     """
     from nav_stack.ros.world_defaults import world_defaults
 
     chosen, args.world = args.world is not None, args.world or "turtlebot3_world"
     defaults = world_defaults(args.world)
-    if (chosen or not own_params) and args.map is None and not args.slam and defaults.map_yaml is not None:
+    wants_map = chosen or not own_params or not _names_a_map(args.params)
+    if wants_map and args.map is None and not args.slam and defaults.map_yaml is not None:
         args.map = str(defaults.map_yaml)
     for name, value in zip(("x", "y", "yaw"), defaults.spawn, strict=True):
         if getattr(args, name) is None:

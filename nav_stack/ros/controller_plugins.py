@@ -191,7 +191,9 @@ def build_plugins(
     xy_tolerance = min((c.params.xy_goal_tolerance for c in goal_checkers.values()), default=0.25)
     server = {"inscribed_radius": inscribed_radius, "goal_dist_tol": xy_tolerance,
               "controller_frequency": controller_frequency}
-    controllers = {cid: _controller(node, cid, _kind(node, cid), footprint, server) for cid in controller_ids}
+    kinds = {cid: _kind(node, cid) for cid in controller_ids}
+    controllers = {cid: _controller(node, cid, kind, footprint, server) for cid, kind in kinds.items()}
+    node.get_logger().info("controllers: " + ", ".join(f"{cid} ({kind})" for cid, kind in kinds.items()))
     return ControllerPlugins(controllers, goal_checkers, progress)
 
 

@@ -180,7 +180,7 @@ class LockstepParticipant:
         self.node.destroy_publisher(self._pub)
 
 
-def hold_process(until: Callable[[], bool], grace: float = REQUEST_HOLD, wake: Any = None) -> None:
+def hold_process(until: Callable[[], bool], grace: float = REQUEST_HOLD, wake: Any = None) -> bool:
     """Hold this process's participants (:meth:`LockstepParticipant.hold`); nothing outside lockstep.
 
     For a request whose answer a sim-time deadline waits for, sent from deep inside a node that does
@@ -188,9 +188,13 @@ def hold_process(until: Callable[[], bool], grace: float = REQUEST_HOLD, wake: A
     time): until the answer is back, the simulator does not run on by the wall time the request
     spends in DDS, so the timeout is decided by sim time, not by the machine's load (CI run BJ: a
     loaded run timed out after "1000 ms" waiting for an acknowledgement).
+
+    Returns whether anything holds (False outside lockstep: the simulator, if any, does not wait).
     """
-    for participant in list(_PROCESS_PARTICIPANTS):
+    participants = list(_PROCESS_PARTICIPANTS)
+    for participant in participants:
         participant.hold(until, grace, wake)
+    return bool(participants)
 
 
 def clock_heard() -> bool | None:

@@ -66,27 +66,39 @@ def add_console_arguments(parser: argparse.ArgumentParser) -> None:
                              "else artifacts/logs)")
 
 
+def add_nav_params_argument(parser: argparse.ArgumentParser) -> None:
+    """``--nav-params FILE`` (repeatable): the navigation's parameter files, passed to nav-bringup as
+    ``--params`` (e.g. Nav2 Jazzy's own nav2_params.yaml; default: the robot's shipped file)."""
+    parser.add_argument("--nav-params", action="append", default=None, metavar="FILE",
+                        help="Nav2 parameter file for nav-bringup's --params (repeatable; later files "
+                             "override earlier ones), e.g. Nav2's own nav2_params.yaml")
+
+
 def console_arguments(options: argparse.Namespace, log_dir: Path) -> list[str]:
     """What nav-bringup is told about the console: the same verbosity, the same log directory."""
     return [*(["--verbose"] if options.verbose else []), "--log-dir", str(log_dir)]
 
 
 def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None,
-                    robot: str | None = None, console: Sequence[str] = ()) -> list[str]:
+                    robot: str | None = None, console: Sequence[str] = (),
+                    params: Sequence[str] = ()) -> list[str]:
     """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
     ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
 
     ``machine`` names the state machine that will join lockstep: the simulator waits for it before
     its first step, so the mission starts at the same sim time on every run. ``robot`` is passed on
     as ``--robot`` (nav-bringup checks the name and picks that robot's simulation and parameters).
-    ``console`` (nav-bringup's ``--verbose``, ``--log-dir``) is for nav-bringup only.
+    ``console`` (nav-bringup's ``--verbose``, ``--log-dir``) and ``params`` (its ``--params`` files,
+    made absolute) are for nav-bringup only.
     """
     robot_args = ["--robot", robot] if robot else []
     if custom:
         return [*shlex.split(custom), *robot_args, "--rtf", rtf]
     exe = shutil.which("nav-bringup")
     base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
-    return [*base, *robot_args, "--rtf", rtf, *(["--participant", machine] if machine else []), *console]
+    param_args = [arg for file in params for arg in ("--params", str(Path(file).resolve()))]
+    return [*base, *robot_args, *param_args, "--rtf", rtf, *(["--participant", machine] if machine else []),
+            *console]
 
 
 @dataclass(frozen=True)
@@ -122,8 +134,9 @@ def run_against_stack(options: argparse.Namespace, out: StackConsole, machine: s
         launcher.stop()
 
     previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    nav_params = getattr(options, "nav_params", None) or ()
     command = [*bringup_command(options.rtf, options.bringup, machine, getattr(options, "robot", None),
-                                console_arguments(options, log_dir)), *extra_args]
+                                console_arguments(options, log_dir), nav_params), *extra_args]
     prefix = f"[{out.name}]"
     try:
         out.say(f"{prefix} starting the stack: {' '.join(command)}")

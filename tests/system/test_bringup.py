@@ -84,6 +84,9 @@ def test_a_world_brings_its_map_and_spawn_unless_given():
     assert Path(default[default.index("--map") + 1]).is_absolute()
     assert default[default.index("--map") + 1].endswith("maps/turtlebot3_world.yaml")
     assert "--map" not in _specs("--params", "config/nav2_params.yaml")[2].cmd
+    # Nav2's own file leaves yaml_filename empty (its launch file's `map` argument fills it): the world's
+    jazzy = _specs("--params", "config/jazzy/nav2_params.yaml")[2].cmd
+    assert jazzy[jazzy.index("--map") + 1].endswith("maps/turtlebot3_world.yaml")
 
 
 def test_tb4_brings_its_parameter_file_and_the_simulator_its_model():

@@ -31,7 +31,7 @@ from rclpy.task import Future
 from nav_stack.core.bt import BtPortError, NodeConfig, PortList, StatefulActionNode, input_port, output_port
 from nav_stack.core.bt.ports import blackboard_key
 from nav_stack.core.bt.status import NodeStatus
-from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, code_name
+from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, TimedRequest, code_name
 from ros_tools.runtime.actions import cancel_if_accepted
 
 DEFAULT_SERVER_TIMEOUT_MS = 20  # Nav2's default_server_timeout
@@ -64,7 +64,7 @@ class BtActionNode(StatefulActionNode):
         self.ros = ros
         self._phase = _Phase.WAITING_FOR_SERVER
         self._deadline = 0.0
-        self._sent_at = 0.0
+        self._timing: TimedRequest | None = None  # the goal request's acknowledgement, timed
         self._goal: Any = None
         self._goal_future: Future | None = None
         self._handle: ClientGoalHandle | None = None
@@ -116,8 +116,7 @@ class BtActionNode(StatefulActionNode):
         client = self.ros.action_client(self.action_type, self.server_name)
         self._goal = goal
         self._goal_future = client.send_goal_async(goal)
-        self._sent_at = self.ros.clock()
-        self.ros.hold_lockstep(self._goal_future)  # server_timeout counts sim time, not DDS's
+        self._timing = self.ros.start_timed(self._goal_future)  # server_timeout counts sim time, not DDS's
         self._phase = _Phase.SENT
 
     # -- StatefulActionNode --------------------------------------------------------------------------
@@ -159,7 +158,8 @@ class BtActionNode(StatefulActionNode):
         assert self._goal_future is not None
         if not self._goal_future.done():
             timeout_ms = int(self.get_input_or("server_timeout", DEFAULT_SERVER_TIMEOUT_MS))
-            if (self.ros.clock() - self._sent_at) * 1000.0 <= timeout_ms:
+            assert self._timing is not None
+            if self.ros.waited_ms(self._timing) <= timeout_ms:
                 return NodeStatus.RUNNING
             self._goal_future.add_done_callback(cancel_if_accepted)
             self._goal_future = None

@@ -31,7 +31,7 @@ from rclpy.client import Client
 from rclpy.node import Node
 
 from nav_stack.ros.frames import Frames
-from ros_tools.runtime.lockstep import hold_process
+from ros_tools.runtime.lockstep import REQUEST_HOLD, hold_process
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,22 @@ def code_name(result_type: Any, code: int) -> str:
     return ""
 
 
+@dataclass
+class TimedRequest:
+    """A request whose answer a leaf waits for at most ``server_timeout`` ms of node clock.
+
+    Attributes:
+        future: the answer (a goal handle or a service response).
+        sent_at: node clock (s) the wait counts from.
+        held_until: steady clock (s) until which a lockstep simulator waits for the answer; None when
+            no simulator waits (no lockstep participant in this process).
+    """
+
+    future: Any
+    sent_at: float
+    held_until: float | None
+
+
 class BtRosContext:
     """Collaborators injected into every ROS-backed leaf (``factory.register(..., ros=ctx)``)."""
 
@@ -79,11 +95,28 @@ class BtRosContext:
         self.robot_base_frame = "base_link"
         self.transform_tolerance = 0.1  # s
 
-    def hold_lockstep(self, pending: Any) -> None:
-        """Keep a lockstep simulator from stepping on until the future ``pending`` is done (bounded in
-        wall time): for a request whose sim-time ``server_timeout`` must not race the wall time it
-        spends in DDS. Its completion sends the withheld progress report at once."""
-        hold_process(pending.done, wake=pending)
+    def start_timed(self, pending: Any) -> TimedRequest:
+        """Start timing the answer ``pending`` (a future), and keep a lockstep simulator from stepping
+        on until it is done (at most REQUEST_HOLD wall s): a sim-time ``server_timeout`` must not race
+        the wall time the request spends in DDS and in the server's queue. Its completion sends the
+        withheld progress report at once."""
+        held = hold_process(pending.done, wake=pending)
+        return TimedRequest(pending, self.clock(), self.wall_clock() + REQUEST_HOLD if held else None)
+
+    def waited_ms(self, request: TimedRequest) -> float:
+        """ms of node clock ``request`` has waited for its answer, not counting the time the simulator
+        was held for it.
+
+        Why: a participant's report lets the simulator run up to ``lockstep.max_lead`` (50 ms) ahead
+        of it, so while the simulator waits for the answer, the node clock may still pass the lead,
+        more than Nav2's 20 ms default_server_timeout, and a goal would fail or not by the machine's
+        load. While the hold lasts, no sim time counts; after it (a server that does not answer within
+        REQUEST_HOLD wall s), the timeout runs in sim time as Nav2's does.
+        """
+        if request.held_until is not None and self.wall_clock() < request.held_until:
+            request.sent_at = self.clock()
+            return 0.0
+        return (self.clock() - request.sent_at) * 1000.0
 
     def action_client(self, action_type: type, name: str) -> ActionClient:
         """The (cached) client of action ``name``."""

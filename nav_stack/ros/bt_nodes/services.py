@@ -17,7 +17,7 @@ from rclpy.task import Future
 from nav_stack.core.bt import BtPortError, NodeConfig, PortList, StatefulActionNode, input_port
 from nav_stack.core.bt.status import NodeStatus
 from nav_stack.ros.bt_nodes.action_node import DEFAULT_SERVER_TIMEOUT_MS, DEFAULT_WAIT_FOR_SERVICE_MS
-from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure
+from nav_stack.ros.bt_nodes.context import BtRosContext, LeafFailure, TimedRequest
 
 
 class BtServiceNode(StatefulActionNode):
@@ -31,7 +31,7 @@ class BtServiceNode(StatefulActionNode):
         self.ros = ros
         self._future: Future | None = None
         self._deadline = 0.0
-        self._sent_at = 0.0
+        self._timing: TimedRequest | None = None  # the request's answer, timed
         with contextlib.suppress(BtPortError):  # created at load so discovery is done by the first tick
             self._client()
 
@@ -57,8 +57,7 @@ class BtServiceNode(StatefulActionNode):
 
     def _send(self) -> None:
         self._future = self._client().call_async(self.make_request())
-        self._sent_at = self.ros.clock()
-        self.ros.hold_lockstep(self._future)  # server_timeout counts sim time, not DDS's
+        self._timing = self.ros.start_timed(self._future)  # server_timeout counts sim time, not DDS's
 
     def on_start(self) -> NodeStatus:
         self._future = None
@@ -81,7 +80,8 @@ class BtServiceNode(StatefulActionNode):
             self._future = None
             return NodeStatus.SUCCESS
         timeout_ms = int(self.get_input_or("server_timeout", DEFAULT_SERVER_TIMEOUT_MS))
-        if (self.ros.clock() - self._sent_at) * 1000.0 > timeout_ms:
+        assert self._timing is not None
+        if self.ros.waited_ms(self._timing) > timeout_ms:
             self._future = None
             service = self.get_input("service_name")
             return self._fail(f"service '{service}' did not answer within {timeout_ms} ms")

@@ -34,6 +34,7 @@ from ros_tools.launch import ProcessSpec
 from smacc_py.state_machines.stack_run import (
     StackSession,
     add_console_arguments,
+    add_nav_params_argument,
     parse_rtf,
     run_against_stack,
 )
@@ -62,7 +63,10 @@ REPORT_TOPICS = ("/map", "/ground_truth", "/amcl_pose", "/plan", "/goal_pose", "
 #: 2000-pose cloud only while someone subscribes, so recording it would load the run it records),
 #: /clock (``play --clock`` regenerates it) and the costmaps (full grids, megabytes each second).
 REPLAY_TOPICS = ("/scan", "/odom", "/tf", "/tf_static", "/cmd_vel", "/local_plan")
-RECORDED_TOPICS = REPORT_TOPICS + REPLAY_TOPICS
+#: Nav2 Jazzy's velocity chain, when the parameter files configure it (controller → /cmd_vel_nav →
+#: velocity_smoother → /cmd_vel_smoothed → collision_monitor → /cmd_vel): each stage's output.
+CHAIN_TOPICS = ("/cmd_vel_nav", "/cmd_vel_smoothed")
+RECORDED_TOPICS = REPORT_TOPICS + REPLAY_TOPICS + CHAIN_TOPICS
 
 
 def recorder_spec(report: Path) -> ProcessSpec:
@@ -109,6 +113,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
         "--ready-timeout", type=float, default=180.0, help="wall s to wait for 'Nav2 is ready'"
     )
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
+    add_nav_params_argument(parser)
     add_console_arguments(parser)
     parser.add_argument("--report", type=Path, default=REPORT_DEFAULT,
                         help=f"run report PNG, from a recording next to it (default {REPORT_DEFAULT})")

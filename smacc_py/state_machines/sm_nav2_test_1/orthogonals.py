@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, cast
+
 from smacc_py.clients.cl_keyboard import ClKeyboard
 from smacc_py.clients.cl_nav2z import (
     ClNav2Z,
@@ -13,6 +15,9 @@ from smacc_py.clients.cl_nav2z import (
 )
 from smacc_py.clients.cl_ros2_timer import ClRos2Timer
 from smacc_py.core import Orthogonal
+
+if TYPE_CHECKING:  # the machine module imports this one
+    from smacc_py.state_machines.sm_nav2_test_1.sm_nav2_test_1 import SmNav2Test1
 
 
 class OrTimer(Orthogonal):
@@ -37,5 +42,7 @@ class OrNavigation(Orthogonal):
         client.create_component(CpPose, "base_link", "map")
         client.create_component(CpOdomTracker)
         client.create_component(CpPlannerSwitcher)
-        client.create_component(CpGoalCheckerSwitcher)
+        machine = cast("SmNav2Test1", self.sm)
+        client.create_component(CpGoalCheckerSwitcher,
+                                default_goal_checker=machine.config.default_goal_checker)
         client.create_component(CpAmcl)

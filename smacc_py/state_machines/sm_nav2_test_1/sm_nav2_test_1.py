@@ -28,11 +28,16 @@ class SmNav2Test1Params:
             it was asked, (-0.55, 0.55, π), is the centre of the free square between the pillars at (-1.1, 0),
             (0, 0), (-1.1, 1.1) and (0, 1.1): 0.78 m from each pillar centre, 0.63 m of clearance to
             their surfaces (more than Nav2's 0.55 m inflation radius) and > 1.5 m from the walls.
+        default_goal_checker: the goal checker id CpGoalCheckerSwitcher selects, SMACC2's default
+            "goal_checker" (the tutorial's own Nav2 file names it so). Nav2's own nav2_params.yaml calls
+            its goal checker "general_goal_checker": with that file, set this to it
+            (config/sm_nav2_test_1_jazzy.yaml), or controller_server answers INVALID_CONTROLLER.
     """
 
     initial_pose: Pose = (-2.0, -0.5, 0.0)
     waypoint_1: Pose = (2.0, 0.0, 0.0)
     waypoint_2: Pose = (-0.55, 0.55, math.pi)
+    default_goal_checker: str = "goal_checker"
 
     def __post_init__(self) -> None:
         for name in ("initial_pose", "waypoint_1", "waypoint_2"):
@@ -41,6 +46,8 @@ class SmNav2Test1Params:
                 raise ValueError(
                     f"SmNav2Test1Params.{name} must be 3 finite numbers (x, y, yaw), got {value!r}"
                 )
+        if not self.default_goal_checker:
+            raise ValueError("SmNav2Test1Params.default_goal_checker must name a goal checker, got ''")
 
 
 class SmNav2Test1(SmaccStateMachineBase):

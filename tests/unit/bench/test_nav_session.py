@@ -11,10 +11,20 @@ from bench.nav_session import free_poses, ideal_speed
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.robot_params import params_for_robot
 
+REPO = Path(__file__).resolve().parents[3]
+
 
 def test_ideal_speed_is_the_controllers_desired_linear_vel() -> None:
     assert ideal_speed(params_for_robot("waffle")) == pytest.approx(0.26)
     assert ideal_speed(params_for_robot("tb4")) == pytest.approx(0.30)
+
+
+def test_ideal_speed_is_the_slowest_link_of_the_velocity_chain() -> None:
+    """Nav2's own file: MPPI's vx_max and the velocity smoother allow 0.5 m/s, the waffle drives at 0.26."""
+    jazzy = REPO / "config" / "jazzy" / "nav2_params.yaml"
+    assert ideal_speed(jazzy) == pytest.approx(0.5)
+    assert ideal_speed(jazzy, "waffle") == pytest.approx(0.26)
+    assert ideal_speed(jazzy, "tb4") == pytest.approx(0.306)
 
 
 def test_ideal_speed_names_the_file_without_it(tmp_path: Path) -> None:
