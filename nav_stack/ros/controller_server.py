@@ -62,7 +62,7 @@ from nav_stack.ros.response_monitor import ResponseMonitor
 from nav_stack.ros.selectors import Selector
 from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
-from ros_tools.runtime.timers import create_periodic_timer
+from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
 
 Code = ControllerErrorCode
 
@@ -236,17 +236,6 @@ class ControllerServer(NavLifecycleNode):
         return CancelResponse.ACCEPT
 
     # -- the control cycle -------------------------------------------------------------------------
-    def _cycle_time_ns(self) -> int:
-        """The nominal sim time (ns) of the running cycle: its slot on the timer's grid.
-
-        Why not ``now``: under lockstep the clock may have moved on by a /clock message or two when
-        the timer's callback runs, and how far depends on wall timing. The grid is fixed from
-        activation (the timer is never reset), so the cycle times, the stamps of the commands and
-        with them the sim times at which sim2d applies them are the same on every run.
-        """
-        now = self.get_clock().now().nanoseconds
-        return now + self._timer.time_until_next_call() - self._timer.timer_period_ns
-
     def _cycle(self) -> None:
         run = self._current
         if run is None or run.finished:
@@ -276,7 +265,7 @@ class ControllerServer(NavLifecycleNode):
     def _control(self, run: _PathRun) -> None:
         snap = self.costmap_node.snapshot()
         frames = self.costmap_node.frames
-        cycle_ns = self._cycle_time_ns()
+        cycle_ns = nominal_call_ns(self, self._timer)  # the cycle's slot on the timer's grid
         now = cycle_ns * 1e-9
         if run.last_valid == -math.inf:
             run.last_valid = now
