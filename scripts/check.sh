@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Every guard CI runs, in order of speed; the first failure stops the run with a non-zero exit.
-#   ruff (style and bugs), mypy (strict on */core), import-linter (ARCHITECTURE.md dependency
+#   ruff (style and bugs), mypy (every package; strict on */core), import-linter (ARCHITECTURE.md dependency
 #   rules), then the test suite. Extra arguments are passed to pytest (e.g. -k amcl, -m "not slow").
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +12,7 @@ step() { printf '\n== %s\n' "$*"; }
 step "ruff"
 "$VENV/bin/ruff" check .
 step "mypy"
-"$VENV/bin/mypy" sim2d nav_stack smacc_py
+"$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"

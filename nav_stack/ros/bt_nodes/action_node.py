@@ -196,8 +196,3 @@ class BtActionNode(StatefulActionNode):
         self._goal_future = None
         self._handle = None
         self._result_future = None
-
-
-def duration_ports(default_s: float) -> PortList:
-    """``time_allowance`` (s) as behaviour leaves declare it."""
-    return (input_port("time_allowance", float, default_s, "s the behaviour may take"),)
