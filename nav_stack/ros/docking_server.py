@@ -210,7 +210,11 @@ class DockingServer(NavLifecycleNode):
         if run.handle.is_cancel_requested:
             run.sequence.cancel()
         now = self._now()
+        retries = getattr(run.sequence, "num_retries", 0)
         step = run.sequence.tick(now)
+        if step.num_retries > retries and step.result is None:
+            self.get_logger().warn(f"Docking failed, will retry ({step.num_retries} of "
+                                   f"{self.params.max_retries}): {run.sequence.retry_reason}")
         if step.navigate is not None:
             spawn(self, self._navigate(run, step.navigate))
         if step.cancel_navigation:

@@ -6,6 +6,7 @@ With ``controller.use_collision_detection`` the local costmap arrives as nav2_ms
 ``controller.costmap_topic`` and the robot outline as PolygonStamped on ``controller.footprint_topic``
 (transient local, as the costmap node publishes them); the outline is brought into the robot frame
 through TF, and until one arrives the robot is a 0.22 m circle (as behavior_server assumes).
+``controller.footprint`` (not in Nav2), when set, is the outline instead of the published one.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
 from nav_stack.core.docking import Detection, DockingControllerParams, FrameUnavailable, Obstacles, Pose3D
 from nav_stack.core.geometry import Pose2D, compose, to_frame
 from nav_stack.ros.conversions import spec_from_info
+from nav_stack.ros.costmap_params import parse_footprint
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.qos import LATCHED
 from ros_tools.tf import Transform, TransformError
@@ -41,6 +43,11 @@ class RosDockingWorld:
         self._footprint_msg: PolygonStamped | None = None
         self._footprint: tuple[PolygonStamped, Any] | None = None  # (message, its outline in the robot frame)
         self._subs = []
+        points = parse_footprint(controller.footprint, node.get_name(), "controller.footprint")
+        if points and len(points) < 3:
+            raise ValueError(f"{node.get_name()}: controller.footprint needs >= 3 points, got "
+                             f"{controller.footprint!r}")
+        self._outline = PolygonFootprint(points) if points else None
         if controller.use_collision_detection:
             self._subs = [
                 node.create_subscription(Costmap, controller.costmap_topic, self._on_costmap, LATCHED),
@@ -86,7 +93,10 @@ class RosDockingWorld:
         self._footprint_msg = msg
 
     def _robot_outline(self) -> Any:
-        """The last published footprint in the robot frame (converted once per message)."""
+        """controller.footprint, else the last published footprint in the robot frame (converted once
+        per message)."""
+        if self._outline is not None:
+            return self._outline
         msg = self._footprint_msg
         if msg is None or len(msg.polygon.points) < 3:
             return CircleFootprint()

@@ -42,6 +42,12 @@ class DockingControllerParams(SmoothControlLawParams):
     projection_time: float = 5.0
     simulation_time_step: float = 0.1
     dock_collision_threshold: float = 0.3
+    # Not in Nav2: the robot's outline for the collision look-ahead ("[[x, y], ...]" m in base_link),
+    # used instead of the costmap's published footprint when set. Why: the waffle's costmap footprint
+    # is the robot_radius circle (0.22 m + padding), 0.15 m wider ahead of base_link than its body; on
+    # turtlebot3_world's dock that circle overlaps the dock and grazes the pillar beside the staging
+    # pose, so every approach "collided" (measured: bench/bench_docking.py, 0 of 4 docked).
+    footprint: str = ""
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -17,8 +17,8 @@ and a test drives it with a fake world:
    FAILED_TO_DETECT_DOCK) projected 0.25 m past the dock is the control law's target; a colliding
    command or ``dock_approach_timeout`` gives FAILED_TO_CONTROL.
 5. **wait for charge** (charging docks): charging before ``wait_charge_timeout``, else FAILED_TO_CHARGE.
-   Nothing is commanded meanwhile, as in Nav2: the base keeps its last command until contact, its own
-   command timeout, or the end of the goal (which always commands a stop).
+   Meanwhile (not in Nav2, which commands nothing and lets the base run on until contact) the robot
+   settles onto the refined dock pose and stops there (see ``_settle``).
 
 A failure in 4 or 5 is retried while ``num_retries`` <= ``max_retries``: the robot drives back to the
 staging pose (within the undock tolerances; FAILED_TO_CONTROL on collision or after
@@ -33,6 +33,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from nav_stack.core.control.base import Twist2D
 from nav_stack.core.docking.controller import DockingController, relative
 from nav_stack.core.docking.database import Dock, DockDatabase
 from nav_stack.core.docking.errors import (
@@ -61,6 +62,7 @@ from nav_stack.core.docking.world import (
 from nav_stack.core.geometry import Pose2D, angle_diff, normalize_angle
 
 STAGING_ATTEMPTS = 2  # Nav2's navigator tries the staging navigation once more after a failure
+SETTLE_TOLERANCE = 0.003  # m short of the dock pose at which the settling approach stops (one 50 Hz step)
 
 
 class Phase(enum.Enum):
@@ -114,6 +116,7 @@ class DockingSequence:
         self.database, self.world = database, world
         self.phase, self.phase_start = Phase.RESOLVE, now
         self.num_retries = 0
+        self.retry_reason = ""  # why the last attempt failed (the node logs it, as Nav2 does)
         self.result: DockingResult | None = None
         self.dock: Dock | None = None
         self.plugin: SimpleChargingDock | None = None
@@ -167,6 +170,7 @@ class DockingSequence:
     def _on_failure(self, error: DockingError, now: float) -> DockingStep | None:
         if error.retryable and self.phase in (Phase.CONTROLLING, Phase.WAIT_FOR_CHARGE):
             self.num_retries += 1
+            self.retry_reason = str(error)
             if self.num_retries <= self.params.max_retries:
                 self.staging = self._plugin.staging_pose(self._dock.pose, self._dock.frame)
                 self._enter(Phase.RESET, now)
@@ -286,14 +290,35 @@ class DockingSequence:
         return DockingStep(DockingState.CONTROLLING, self.num_retries, command=command)
 
     def _wait_for_charge(self, now: float) -> DockingStep | None:
-        plugin = self._plugin
-        if not plugin.is_charger or plugin.is_charging(self._robot_near_dock(
-                self.world.robot_pose(self.params.fixed_frame))):
+        plugin, fixed = self._plugin, self.params.fixed_frame
+        robot = self.world.robot_pose(fixed)
+        if not plugin.is_charger or plugin.is_charging(self._robot_near_dock(robot)):
             return self._finish(DockingOutcome.SUCCEEDED, DockErrorCode.NONE, "")
         if self._elapsed(now) > self.params.wait_charge_timeout:
             raise FailedToCharge(f"docked, but charging did not start within wait_charge_timeout "
                                  f"{self.params.wait_charge_timeout:g} s")
-        return DockingStep(DockingState.WAIT_FOR_CHARGE, self.num_retries)
+        return DockingStep(DockingState.WAIT_FOR_CHARGE, self.num_retries, command=self._settle(robot, now))
+
+    def _settle(self, robot: Pose2D, now: float) -> Twist2D:
+        """Not in Nav2: the command that brings the robot onto the dock pose and stops it there.
+
+        Nav2 commands nothing once "docked" (``docking_threshold``, 5 cm before the dock pose): a real
+        base keeps its last command until its bumper or contacts stop it on the dock. A simulated base
+        coasts on for its command timeout instead (0.5 s at 0.15 m/s: 7.5 cm), past the contacts and
+        into the dock. So the approach goes on, on the refined dock pose, until base_link reaches it
+        (SETTLE_TOLERANCE m short of it along the dock's heading), then the robot stops and waits.
+        """
+        refined = self._refine(now)
+        if refined is not None:
+            self.dock_pose = refined
+        backwards = self.params.dock_backwards
+        ahead = relative(self.dock_pose, robot).x * (-1.0 if backwards else 1.0)  # m still to go
+        if ahead <= SETTLE_TOLERANCE:
+            return STOP
+        target = relative(approach_target(self.dock_pose, backwards), robot)
+        obstacles = self.world.obstacles()
+        in_costmap = robot_in_costmap(self.world, robot, self.params.fixed_frame, obstacles)
+        return self.controller.command(target, in_costmap, obstacles, True, backwards)
 
     def _reset(self, now: float) -> DockingStep | None:
         dock, p, staging = self._dock, self.params, self.staging

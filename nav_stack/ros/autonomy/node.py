@@ -1,8 +1,10 @@
 """``autonomy_node`` (console ``nav-autonomy``): the seed project's battery-aware patrol tree on ROS.
 
 Loads a BehaviorTree.CPP v3/v4 tree (default: the seed's tree.xml unchanged) and a locations file,
-registers the six seed node types (seed_nodes.py) and ticks the tree every ``tick_period`` s of the
-node clock (sim time under ``use_sim_time``). A cycle is one root SUCCESS or FAILURE; after
+registers the six seed node types (seed_nodes.py) and Nav2's ROS leaves (nav_stack.ros.bt_nodes: the
+docking variant config/trees/seed_battery_patrol_docking.xml uses DockRobot and UndockRobot, run by
+config/autonomy_docking.yaml) and ticks the tree every ``tick_period`` s of the node clock (sim time
+under ``use_sim_time``). A cycle is one root SUCCESS or FAILURE; after
 ``max_cycles`` cycles (0 = never) the node halts the tree and exits 0.
 
 Shown while it runs: every status change goes out as nav2_msgs/BehaviorTreeLog on
@@ -44,6 +46,7 @@ from nav_stack.ros.autonomy.battery import BatterySource, CounterBattery, TopicB
 from nav_stack.ros.autonomy.locations import check_tree_locations, load_locations
 from nav_stack.ros.autonomy.navigator import RosNavigator
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
+from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
 from nav_stack.ros.params import declare_dataclass
 from ros_tools.runtime.executor import add_executor_argument
 from ros_tools.runtime.timers import create_periodic_timer
@@ -139,6 +142,8 @@ class AutonomyNode(Node):
                                    log=self.get_logger())
         factory = BehaviorTreeFactory()
         register_seed_nodes(factory, self.seed)
+        self.ros_leaves = BtRosContext(self)  # Nav2's leaves (DockRobot, UndockRobot, ...) on this node
+        register_ros_nodes(factory, self.ros_leaves)
         self.tree = factory.create_tree_from_file(self.tree_file)
         check_tree_locations(self.tree, locations, str(self.location_file))
         self.cycle_results: list[NodeStatus] = []
@@ -235,6 +240,7 @@ class AutonomyNode(Node):
         """Halt (cancelling a running goal while the action client still exists), then destroy."""
         self.stop()
         self.navigator.destroy()
+        self.ros_leaves.destroy()
         super().destroy_node()
 
 

@@ -15,7 +15,7 @@ from nav_stack.core.docking.params import DockingServerParams
 from nav_stack.core.docking.sequence import DockingSequence, DockRequest
 from nav_stack.core.docking.simple_charging_dock import SimpleChargingDock, SimpleChargingDockParams
 from nav_stack.core.docking.undocking import UndockingSequence, UndockRequest
-from nav_stack.core.docking.world import DockingOutcome, DockingStep
+from nav_stack.core.docking.world import STOP, DockingOutcome, DockingStep
 from nav_stack.core.geometry import Pose2D
 from tests.helpers.docking_world import JAZZY_DOCK, FakeDockingWorld, box_obstacle, drive
 
@@ -82,20 +82,22 @@ def test_dock_backwards_backs_into_the_dock() -> None:
     assert all(v <= 0.0 for v, _ in rig.world.commands)
 
 
-def test_with_battery_status_it_waits_for_the_charge_while_the_robot_coasts_to_contact() -> None:
-    """Docked at 5 cm; no command while waiting, so the base keeps its last one and reaches the dock's
-    face, where (like the integration test's fake battery) charging starts within 2 cm."""
+def test_with_battery_status_it_settles_on_the_dock_pose_and_stops_while_waiting_for_the_charge() -> None:
+    """Docked at 5 cm; while waiting for the charge the robot drives on onto the dock pose and stops
+    there (a simulated base would otherwise coast past the contacts); charging starts within 2 cm."""
     rig = Rig(dock=dataclasses.replace(JAZZY_DOCK, use_battery_status=True))
     sequence = rig.dock()
 
     def battery(step: DockingStep, _t: float) -> None:
         rig.steps.append(step)
-        rig.plugin.on_battery_current(1.0 if rig.distance_to_dock() < 0.02 else -0.5)
+        rig.plugin.on_battery_current(1.0 if rig.distance_to_dock() < 0.02 and step.command == STOP else -0.5)
 
     step, _ = drive(sequence, rig.world, rig.plugin, on_step=battery)
     assert step.result is not None and step.result.success, step.result
     waited = [s for s in rig.steps if s.state == DockingState.WAIT_FOR_CHARGE]
-    assert waited and all(s.command is None for s in waited)
+    assert waited and waited[0].command is not None and waited[0].command.vx > 0.0  # on towards the dock
+    assert waited[-1].command == STOP
+    assert rig.distance_to_dock() < 0.01  # on the dock pose, not 5 cm short of it nor past it
 
 
 def test_unknown_dock_id_is_dock_not_in_db() -> None:
