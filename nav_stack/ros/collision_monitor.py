@@ -5,8 +5,14 @@ In: ``cmd_vel_in_topic`` (``cmd_vel_smoothed``; Twist, or TwistStamped with
 TF, and for zones shaped by a topic their PolygonStamped (nav_stack.ros.collision_monitor_sources).
 Out: ``cmd_vel_out_topic`` (``cmd_vel``) with the input's header when stamped; ``state_topic``
 (nav2_msgs/CollisionMonitorState, when named) each time the acting polygon changes;
-``~/collision_points_marker`` (visualization_msgs/MarkerArray, while someone listens); each zone
-with ``visualize`` on its ``polygon_pub_topic`` (geometry_msgs/PolygonStamped).
+``~/collision_points_marker`` (visualization_msgs/MarkerArray, while someone listens: one POINTS marker
+per source, Jazzy's ``collision_points_<source>``); each zone with ``visualize`` on its
+``polygon_pub_topic`` (geometry_msgs/PolygonStamped; default: the zone's name). Both are built by
+nav_stack.ros.collision_monitor_markers.
+
+A source whose newest data is older than its ``source_timeout`` (or that never published, or that TF
+cannot place) stops the robot as Nav2 does (state ``invalid source``); the warning names the source
+and why.
 
 Every input command is decided by nav_stack.core.collision_monitor (which polygon acts, the stop
 publication rule); there is no timer: like Nav2, the node works only when a command arrives, and
@@ -20,14 +26,15 @@ import dataclasses
 from collections.abc import Sequence
 from typing import Any
 
-from geometry_msgs.msg import Point, Point32, PolygonStamped, Twist, TwistStamped
+import numpy as np
+from geometry_msgs.msg import PolygonStamped, Twist, TwistStamped
 from nav2_msgs.msg import CollisionMonitorState
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.exceptions import InvalidParameterTypeException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_msgs.msg import Header
-from visualization_msgs.msg import Marker, MarkerArray
+from visualization_msgs.msg import MarkerArray
 
 from nav_stack.core.collision_monitor import (
     INVALID_SOURCE,
@@ -41,6 +48,7 @@ from nav_stack.core.collision_monitor import (
     Zone,
 )
 from nav_stack.core.geometry import FloatArray
+from nav_stack.ros.collision_monitor_markers import collision_points_marker, polygon_stamped
 from nav_stack.ros.collision_monitor_sources import ObservationSource, SourceFrames, ZoneShapeInput
 from nav_stack.ros.frames import Frames
 from nav_stack.ros.lifecycle import NavLifecycleNode
@@ -52,6 +60,7 @@ from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 NODE_NAME = "collision_monitor"
 MARKER_TOPIC = "~/collision_points_marker"
 WARN_PERIOD = 5.0  # s between two repeats of a warning
+_NO_POINTS = np.zeros((0, 2))  # a disabled source's marker
 
 
 class CollisionMonitorNode(NavLifecycleNode):
@@ -60,6 +69,7 @@ class CollisionMonitorNode(NavLifecycleNode):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(NODE_NAME, **kwargs)
         self._active = False
+        self._invalid = ""  # "<source>: <why>" of the source that made the last command stop
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -158,30 +168,36 @@ class CollisionMonitorNode(NavLifecycleNode):
         self._publish_polygons()
 
     def _collect(self, now: float) -> dict[str, FloatArray] | None:
-        """Each enabled source's points, or None when one is invalid and its timeout is not 0."""
+        """Each enabled source's points, or None when one is invalid and its timeout is not 0.
+
+        Nav2's order: sources are read in the order of ``observation_sources`` and reading stops at
+        the first invalid one; the markers show what was read up to there.
+        """
         points: dict[str, FloatArray] = {}
+        shown: list[tuple[str, FloatArray]] = []
+        self._invalid = ""
         for source in self.sources:
-            if not source.params.enabled:
-                continue
-            data = source.points(now)
-            if data is None and source.params.source_timeout != 0.0:
-                self.get_logger().warning(f"[{source.name}]: {source.reason}",
-                                          throttle_duration_sec=WARN_PERIOD)
-                self._publish_markers(points)
-                return None
+            data = source.points(now) if source.params.enabled else None
+            if source.params.enabled and data is None and source.params.source_timeout != 0.0:
+                self._invalid = f"{source.name}: {source.reason}"
+                self.get_logger().warning(f"[{source.name}]: {source.reason}; ignoring the source: the robot "
+                                          "stops", throttle_duration_sec=WARN_PERIOD)
+                break
             if data is not None:
                 points[source.name] = data
-        self._publish_markers(points)
-        return points
+            shown.append((source.name, data if data is not None else _NO_POINTS))
+        if self._marker_pub.get_subscription_count() > 0:
+            self._marker_pub.publish(collision_points_marker(self.params.base_frame_id, shown))
+        return None if self._invalid else points
 
     # -- outputs -----------------------------------------------------------------------------------
     def _report(self, action: Action) -> None:
         """Log the new state as Nav2 words it and publish it on ``state_topic``."""
         zone = next((z for z in self.monitor.zones if z.name == action.polygon_name), None)
         if action.polygon_name == INVALID_SOURCE:
-            self.get_logger().warning("Robot to stop due to invalid source. Either due to data not published "
-                                      "yet, or to lack of new data received within the sensor timeout, or "
-                                      "if impossible to transform data to base frame")
+            self.get_logger().warning(f"Robot to stop due to invalid source ({self._invalid}). Either due to "
+                                      "data not published yet, or to lack of new data received within the "
+                                      "sensor timeout, or if impossible to transform data to base frame")
         elif zone is None:
             self.get_logger().info("Robot to continue normal operation")
         elif action.action_type == ActionType.SLOWDOWN:
@@ -197,28 +213,14 @@ class CollisionMonitorNode(NavLifecycleNode):
             self._state_pub.publish(CollisionMonitorState(action_type=int(action.action_type),
                                                           polygon_name=action.polygon_name))
 
-    def _publish_markers(self, points: dict[str, FloatArray]) -> None:
-        """The data points of this cycle as red dots in the base frame, only while someone listens."""
-        if self._marker_pub.get_subscription_count() == 0:
-            return
-        marker = Marker(ns="collision_points", id=0, type=Marker.POINTS, action=Marker.ADD, frame_locked=True)
-        marker.header.frame_id = self.params.base_frame_id  # stamp 0: the latest transform
-        marker.scale.x = marker.scale.y = 0.02
-        marker.color.r, marker.color.a = 1.0, 1.0
-        marker.points = [Point(x=float(x), y=float(y)) for pts in points.values() for x, y in pts]
-        self._marker_pub.publish(MarkerArray(markers=[marker]))
-
     def _publish_polygons(self) -> None:
+        """Each enabled zone with ``visualize`` on its ``polygon_pub_topic``, once its shape is known."""
         stamp = self.get_clock().now().to_msg()
         for zone in self.monitor.zones:
             pub = self._polygon_pubs.get(zone.name)
             outline = zone.outline
-            if pub is None or not zone.enabled or outline is None:
-                continue
-            msg = PolygonStamped()
-            msg.header.frame_id, msg.header.stamp = self.params.base_frame_id, stamp
-            msg.polygon.points = [Point32(x=float(x), y=float(y)) for x, y in outline]
-            pub.publish(msg)
+            if pub is not None and zone.enabled and outline is not None:
+                pub.publish(polygon_stamped(self.params.base_frame_id, stamp, outline))
 
     # -- run-time parameters -----------------------------------------------------------------------
     def _on_enabled(self, parameters: list[Parameter]) -> SetParametersResult:

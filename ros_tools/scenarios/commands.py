@@ -34,9 +34,10 @@ MODULES = {"navsuite-demo": "smacc_py.state_machines.sm_nav2_test_1.demo",
            "nav-bringup": "nav_stack.ros.bringup",
            "nav-autonomy": "nav_stack.ros.autonomy.node", "navsuite-bag": "ros_tools.bag.main"}
 #: What the worker records when the mission command does not (navsuite-demo's REPORT + REPLAY topics).
+#: /sim2d/clearance feeds the min_clearance criterion, /collision_monitor_state shows why the robot stopped.
 RECORDED_TOPICS = ("/map", "/ground_truth", "/amcl_pose", "/plan", "/goal_pose", "/sim2d/collisions",
                    "/scan", "/odom", "/tf", "/tf_static", "/cmd_vel", "/local_plan", "/battery_state",
-                   "/SmBatteryPatrol/smacc/transition_log")
+                   "/SmBatteryPatrol/smacc/transition_log", "/sim2d/clearance", "/collision_monitor_state")
 BATTERY_SIM_PARAMS = "config/sim2d_battery_patrol.yaml"  # the seed's fast-draining battery
 #: wall s a run may take beyond its mission's own timeout (bringup, shutdown, report): the worker stops the
 #: mission then (goal lists and trees have no timeout of their own), the executor later (executor.KILL_AFTER)
@@ -99,6 +100,8 @@ def plan(scenario: Scenario, artifact_dir: Path, repo: Path) -> RunPlan:
         goals = json.dumps([goal.as_list() for goal in mission.goals])
         command = [sys.executable, "-m", "ros_tools.scenarios.goal_driver", goals,
                    "--wait-for", "/ground_truth"]
+        if mission.max_goal_time is not None:
+            command += ["--goal-time", f"{mission.max_goal_time:g}"]
         return RunPlan("goals", command, [*stack, "--participant", "scenario_goals"], files,
                        mcap=artifact_dir / "run.mcap", report=report)
     assert isinstance(mission, BehaviorTreeMission)
@@ -110,8 +113,11 @@ def plan(scenario: Scenario, artifact_dir: Path, repo: Path) -> RunPlan:
 
 
 def _placement(scenario: Scenario) -> list[str]:
-    """nav-bringup's world and spawn (which is also AMCL's initial pose)."""
+    """nav-bringup's world and spawn (which is also AMCL's initial pose), and the scenario's parameter
+    files (each a ``--params``, in order)."""
     args = ["--world", scenario.world]
+    for path in scenario.params:
+        args += ["--params", str(path)]
     if scenario.start is not None:
         start = scenario.start
         args += [f"--x={start.x:g}", f"--y={start.y:g}", f"--yaw={start.yaw:g}"]

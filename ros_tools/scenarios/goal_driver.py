@@ -12,9 +12,14 @@ Lines (read by ros_tools.scenarios.outcome)::
     goal 2: result: ABORTED (error_code 208): <error_msg> in 0.40 s sim
     goals: 1 of 2 reached; sim 12.70 s
 
+With ``--goal-time S`` a goal still running S s of sim time after it was accepted is canceled
+(``goal 1: not done after S s sim: canceling``, then its CANCELED result): a mission whose robot is
+held on purpose (a Stop zone of the collision monitor) ends on sim time, not at the farm's wall-clock
+deadline.
+
 Exit status 0 when every goal succeeded, 1 otherwise (2 on bad arguments).
-Usage: ``python -m ros_tools.scenarios.goal_driver '[[x, y, yaw], ...]' [--wait-for TOPIC]`` (map frame;
-m, m, rad).
+Usage: ``python -m ros_tools.scenarios.goal_driver '[[x, y, yaw], ...]' [--wait-for TOPIC]
+[--goal-time S]`` (map frame; m, m, rad; S in sim s).
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ STATUS_NAMES = {4: "SUCCEEDED", 5: "CANCELED", 6: "ABORTED"}  # action_msgs/Goal
 
 
 def build_node(goals: list[tuple[float, float, float]], exit_code: list[int],
-               wait_for: str | None = None) -> Any:
+               wait_for: str | None = None, goal_time: float | None = None) -> Any:
     """The driver node; ``exit_code[0]`` is set when the list is done, then the process stops itself.
     With ``wait_for`` (a topic) it is ready only once that topic has a subscriber too (or after
     WAIT_FOR_LIMIT wall s): a recorder that has not yet subscribed would miss the mission's start."""
@@ -66,7 +71,10 @@ def build_node(goals: list[tuple[float, float, float]], exit_code: list[int],
                 print(f"goal {index}: result: REJECTED (error_code 0): not accepted in 0.00 s sim",
                       flush=True)
                 break
+            limit = _cancel_after(node, sent.result(), index, goal_time) if goal_time else None
             answer = await until(sent.result().get_result_async())
+            if limit is not None:
+                node.destroy_timer(limit)
             status, result = answer.status, answer.result
             why = f": {result.error_msg}" if result.error_msg else ""
             print(f"goal {index}: result: {STATUS_NAMES.get(status, f'status {status}')} "
@@ -98,6 +106,17 @@ def build_node(goals: list[tuple[float, float, float]], exit_code: list[int],
     return node
 
 
+def _cancel_after(node: Any, handle: Any, index: int, seconds: float) -> Any:
+    """A one-shot timer on the node's (sim) clock that cancels the goal of ``handle`` after ``seconds``."""
+    def expire() -> None:
+        node.destroy_timer(timer)
+        print(f"goal {index}: not done after {seconds:g} s sim: canceling", flush=True)
+        handle.cancel_goal_async()
+
+    timer = node.create_timer(seconds, expire)
+    return timer
+
+
 def parse_goals(text: str) -> list[tuple[float, float, float]]:
     """``[[x, y, yaw], ...]`` (yaw optional) → poses; ValueError naming the text otherwise."""
     goals = json.loads(text)
@@ -119,7 +138,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="goal_driver", description=__doc__.splitlines()[0])
     parser.add_argument("goals", help="JSON list of [x, y, yaw] (map frame; m, m, rad)")
     parser.add_argument("--wait-for", help="a topic that must have a subscriber before the first goal")
+    parser.add_argument("--goal-time", type=float, default=None,
+                        help="sim s after which a running goal is canceled (default: never)")
     args = parser.parse_args(argv)
+    if args.goal_time is not None and not args.goal_time > 0.0:
+        parser.error(f"--goal-time must be > 0 s, got {args.goal_time}")
     try:
         goals = parse_goals(args.goals)
     except ValueError as error:
@@ -128,7 +151,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     nodes: list[Any] = []
 
     def build() -> list[Any]:
-        nodes.append(build_node(goals, exit_code, args.wait_for))
+        nodes.append(build_node(goals, exit_code, args.wait_for, args.goal_time))
         return nodes
 
     run_nodes(build, role=ROLE, rclpy_args=["--ros-args", "-p", "use_sim_time:=true"],

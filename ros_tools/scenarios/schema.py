@@ -13,9 +13,12 @@ File layout (units: m, rad, sim s for ``at``/``max_sim_time``, wall s for ``time
       - name: seed_nominal
         start: [-2.0, -0.5, 0.0]                     # x, y, yaw in the map frame
         mission: {state_machine: sm_nav2_test_1, parameters: {waypoint_1: [2.0, 0.0, 0.0]}}
+        # or {goals: [[x, y, yaw], ...], max_goal_time: 20} (sim s, then the goal is canceled)
+        params: [config/nav2_params.yaml, my_overlay.yaml]  # nav-bringup --params (replace the robot's)
         events: [{at: 8.0, kidnap: [0.5, -1.6, 0.0]}, {at: 12.0, lidar_dropout: 3.0},
                  {at: 15.0, obstacle: [0.5, 0.0, 0.15]}, {at: 30.0, kill_navigation: null}]
-        expect: {result: SUCCESS, final_state: StFinalState, max_sim_time: 90, max_collisions: 0}
+        expect: {result: SUCCESS, final_state: StFinalState, max_sim_time: 90, max_collisions: 0,
+                 min_clearance: 0.05}
         sweep: {start: [[-2.0, -0.5, 0.0], [-2.0, 0.5, 0.0]]}   # one scenario per start, name-1, name-2…
 """
 
@@ -35,6 +38,7 @@ from ros_tools.scenarios.schema_fields import (
     check_expect,
     check_mission,
     check_name,
+    check_params,
     check_pose,
     check_positive,
     check_robot,
@@ -42,7 +46,8 @@ from ros_tools.scenarios.schema_fields import (
 )
 
 #: Keys a scenario (or ``defaults``) may have; anything else is a typo and fails the load.
-SCENARIO_KEYS = ("name", "world", "robot", "start", "mission", "events", "expect", "timeout", "sweep")
+SCENARIO_KEYS = ("name", "world", "robot", "start", "mission", "params", "events", "expect", "timeout",
+                 "sweep")
 DEFAULT_TIMEOUT = 180.0  # wall s the mission may take (its command's --timeout); the farm adds a margin
 __all__ = ["BehaviorTreeMission", "Event", "Expect", "GoalsMission", "Pose2D", "Scenario", "ScenarioError",
            "StateMachineMission", "load_scenarios", "parse_scenarios"]
@@ -72,9 +77,11 @@ class StateMachineMission:
 
 @dataclass(frozen=True)
 class GoalsMission:
-    """NavigateToPose goals sent one after the other; the run stops at the first that fails."""
+    """NavigateToPose goals sent one after the other; the run stops at the first that fails.
+    ``max_goal_time``: sim s after which a running goal is canceled (None: never)."""
 
     goals: tuple[Pose2D, ...]
+    max_goal_time: float | None = None
 
 
 @dataclass(frozen=True)
@@ -113,6 +120,8 @@ class Expect:
     max_sim_time: s of sim time the mission may take.
     max_collisions: contacts sim2d may report (zero collisions by default).
     max_localization_error: m between AMCL's pose and the truth, at any time of the run.
+    min_clearance: m the robot's body must keep from every obstacle at all times (sim2d's ground-truth
+        /sim2d/clearance, recorded; the smallest value of the run).
     """
 
     result: str | None = "SUCCESS"
@@ -122,11 +131,13 @@ class Expect:
     max_sim_time: float | None = None
     max_collisions: int | None = 0
     max_localization_error: float | None = None
+    min_clearance: float | None = None
 
 
 @dataclass(frozen=True)
 class Scenario:
-    """One mission run. ``source`` is the file it came from (for messages and reports)."""
+    """One mission run. ``source`` is the file it came from (for messages and reports); ``params`` the
+    Nav2 parameter files given to nav-bringup (empty: the robot's default)."""
 
     name: str
     world: str
@@ -137,6 +148,7 @@ class Scenario:
     expect: Expect = Expect()
     timeout: float = DEFAULT_TIMEOUT
     source: str = ""
+    params: tuple[Path, ...] = ()
 
 
 def load_scenarios(path: str | Path, config_dir: Path | None = None) -> list[Scenario]:
@@ -206,13 +218,14 @@ def _scenario(check: FieldCheck, raw: dict[str, Any]) -> Scenario:
     if kind == "state_machine":
         mission = StateMachineMission(values["machine"], values["parameters"], values["cycles"])
     elif kind == "goals":
-        mission = GoalsMission(tuple(Pose2D(*pose) for pose in values["goals"]))
+        mission = GoalsMission(tuple(Pose2D(*pose) for pose in values["goals"]), values["max_goal_time"])
     else:
         mission = BehaviorTreeMission(values["tree"], values["locations"], values["max_cycles"])
     events = tuple(Event(at, kind_, Pose2D(*value) if kind_ == "kidnap" else value)
                    for at, kind_, value in check_events(check, raw.get("events") or []))
     expect = Expect(**check_expect(check, raw.get("expect") or {}))
     timeout = check_positive(check, "timeout", raw.get("timeout", DEFAULT_TIMEOUT))
+    params = () if raw.get("params") is None else check_params(check, raw["params"])
     return Scenario(name, check_world(check, raw.get("world", "turtlebot3_world")),
                     check_robot(check, raw.get("robot", "waffle")), start, mission, events, expect, timeout,
-                    check.source)
+                    check.source, params)

@@ -29,7 +29,7 @@ RESULTS = ("SUCCESS", "ABORT", "TIMEOUT", "STACK", "ERROR")
 EVENT_KINDS = ("kidnap", "battery", "lidar_dropout", "obstacle", "kill_navigation")
 INJECTED_EVENTS = ("kidnap", "lidar_dropout", "obstacle", "kill_navigation")
 EXPECT_KEYS = ("result", "final_state", "tag", "result_code", "max_sim_time", "max_collisions",
-               "max_localization_error")
+               "max_localization_error", "min_clearance")
 MISSION_KINDS = ("state_machine", "goals", "behavior_tree")
 _NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 
@@ -119,6 +119,16 @@ def check_file(check: FieldCheck, name: str, value: object) -> Path:
     check.fail(name, "no such file", value)
 
 
+def check_params(check: FieldCheck, value: object) -> tuple[Path, ...]:
+    """Nav2 parameter files for nav-bringup's ``--params``, in order (later files win): a path or a
+    list of paths, each resolved as ``check_file`` does. They replace the robot's default file, as
+    ``--params`` does, so a scenario that adds a section names the base file first."""
+    files = [value] if isinstance(value, str) else value
+    if not isinstance(files, list) or not files:
+        check.fail("params", "expected a parameter file or a non-empty list of them", value)
+    return tuple(check_file(check, f"params[{i}]", item) for i, item in enumerate(files))
+
+
 def check_mission(check: FieldCheck, value: object) -> tuple[str, dict[str, Any]]:
     """Exactly one of state_machine, goals, behavior_tree, and the keys that go with it."""
     if not isinstance(value, dict):
@@ -127,7 +137,8 @@ def check_mission(check: FieldCheck, value: object) -> tuple[str, dict[str, Any]
     if len(kinds) != 1:
         check.fail("mission", "expected exactly one of " + ", ".join(MISSION_KINDS), sorted(value))
     kind = kinds[0]
-    allowed = {"state_machine": ("state_machine", "parameters", "cycles"), "goals": ("goals",),
+    allowed = {"state_machine": ("state_machine", "parameters", "cycles"),
+               "goals": ("goals", "max_goal_time"),
                "behavior_tree": ("behavior_tree", "locations", "max_cycles")}[kind]
     for key in value:
         if key not in allowed:
@@ -137,7 +148,11 @@ def check_mission(check: FieldCheck, value: object) -> tuple[str, dict[str, Any]
         goals = value["goals"]
         if not isinstance(goals, list) or not goals:
             check.fail("mission.goals", "expected a non-empty list of [x, y, yaw]", goals)
-        return kind, {"goals": [check_pose(check, f"mission.goals[{i}]", g) for i, g in enumerate(goals)]}
+        limit = value.get("max_goal_time")
+        if limit is not None:
+            limit = check_positive(check, "mission.max_goal_time", limit)
+        return kind, {"goals": [check_pose(check, f"mission.goals[{i}]", g) for i, g in enumerate(goals)],
+                      "max_goal_time": limit}
     if kind == "behavior_tree":
         return kind, {"tree": check_file(check, "mission.behavior_tree", value["behavior_tree"]),
                       "locations": check_file(check, "mission.locations",
@@ -249,6 +264,10 @@ def check_expect(check: FieldCheck, value: object) -> dict[str, Any]:
             clean[key] = item
         elif key == "result_code" or key == "max_collisions":
             clean[key] = check_count(check, where, item, 0)
+        elif key == "min_clearance":
+            clean[key] = check_number(check, where, item)
+            if clean[key] < 0.0:
+                check.fail(where, "expected a distance >= 0 (m)", item)
         else:
             clean[key] = check_positive(check, where, item)
     return clean

@@ -83,10 +83,12 @@ def summary_html(title: str, results: Sequence[ScenarioResult], base: Path, wall
             f"<td>{_number(o.sim_time, 1)}</td><td>{_number(o.wall_time, 1)}</td>"
             f"<td>{_number(o.collisions)}</td>"
             f"<td>{_number(o.max_localization_error)}</td>"
+            f"<td>{_number(o.min_clearance, 3)}</td>"
             f"<td>{link(arts.get('mcap'), 'mcap')} {link(arts.get('logs'), 'logs')}</td>"
             f"<td>{image}</td></tr>")
     head = ("<tr><th>scenario</th><th>verdict</th><th>criteria</th><th>result</th><th>sim s</th>"
-            "<th>wall s</th><th>collisions</th><th>max loc. error m</th><th>files</th><th>report</th></tr>")
+            "<th>wall s</th><th>collisions</th><th>max loc. error m</th><th>min clearance m</th>"
+            "<th>files</th><th>report</th></tr>")
     style = ("body{font-family:sans-serif}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
              "padding:4px;vertical-align:top}tr.FAILED td:nth-child(2){color:#b00;font-weight:bold}"
              "tr.passed td:nth-child(2){color:#070}")

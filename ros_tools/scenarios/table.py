@@ -30,7 +30,8 @@ class Row:
 
 
 def row_text(row: Row, width: int, now: float) -> str:
-    """``name  state  wall  note``: the note is the first failing criterion, or the sim time taken."""
+    """``name  state  wall  note``: the note is the first failing criterion, or the sim time taken (and
+    the smallest clearance, when the run measured it)."""
     wall = ""
     if row.outcome is not None:
         wall = f"{row.outcome.wall_time:5.1f} s"
@@ -41,6 +42,8 @@ def row_text(row: Row, width: int, now: float) -> str:
         note = row.verdict.failures[0]
     elif row.outcome is not None and row.outcome.sim_time is not None:
         note = f"sim {row.outcome.sim_time:.1f} s"
+        if row.outcome.min_clearance is not None:
+            note += f", clearance {row.outcome.min_clearance:.3f} m"
     return f"{row.name:<{width}}  {row.state:<7}  {wall:>7}  {note}".rstrip()
 
 

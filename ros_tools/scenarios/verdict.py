@@ -23,12 +23,14 @@ class Outcome(MissionFacts):
     stack died or never came up) or ERROR (the runner itself failed: ``detail``).
 
     sim_time: s of sim time the mission took; wall_time: s of wall time the scenario took, bringup
-    included; max_localization_error: m (AMCL against the truth); artifacts: name → path; attempts: how
+    included; max_localization_error: m (AMCL against the truth); min_clearance: m, the smallest
+    ground-truth gap between the robot's body and an obstacle; artifacts: name → path; attempts: how
     many times the scenario was started (2 when a cluster worker died under it and it was re-queued).
     """
 
     collisions: int | None = None
     max_localization_error: float | None = None
+    min_clearance: float | None = None
     exit_code: int | None = None
     wall_time: float = 0.0
     events_applied: tuple[str, ...] = ()
@@ -97,6 +99,11 @@ def judge(expect: Expect, outcome: Outcome, injected: int = 0) -> Verdict:
     at_most("max_sim_time", expect.max_sim_time, outcome.sim_time, " s")
     at_most("max_collisions", expect.max_collisions, outcome.collisions, "")
     at_most("max_localization_error", expect.max_localization_error, outcome.max_localization_error, " m")
+    if expect.min_clearance is not None:
+        if outcome.min_clearance is None:
+            failures.append(f"min_clearance: not measured (bound {expect.min_clearance:g} m)")
+        elif outcome.min_clearance < expect.min_clearance:
+            failures.append(f"min_clearance: {outcome.min_clearance:.3f} m < {expect.min_clearance:g} m")
     if len(outcome.events_applied) < injected:
         failures.append(f"events: {len(outcome.events_applied)} of {injected} applied")
     return Verdict(not failures, tuple(failures))

@@ -149,12 +149,13 @@ def _finish(plan: commands.RunPlan, facts: outcome.MissionFacts, code: int | Non
     from ros_tools.scenarios.metrics import measure
 
     artifacts = {"logs": str(plan.report.parent / "logs")}
-    collisions = error = span = None
+    collisions = error = span = clearance = None
     if plan.mcap.exists():
         artifacts["mcap"] = str(plan.mcap)
         try:
             metrics = measure(plan.mcap)
             collisions, error, span = metrics.collisions, metrics.max_localization_error, metrics.sim_span
+            clearance = metrics.min_clearance
         except Exception as exc:  # a broken recording leaves the criteria "not measured", never a crash
             print(f"[scenario] cannot read {plan.mcap}: {exc}", flush=True)
         if not plan.report.exists():
@@ -162,8 +163,8 @@ def _finish(plan: commands.RunPlan, facts: outcome.MissionFacts, code: int | Non
     if plan.report.exists():
         artifacts["report"] = str(plan.report)
     mission = asdict(facts) | {"sim_time": facts.sim_time if facts.sim_time is not None else span}
-    return Outcome(**mission, collisions=collisions, max_localization_error=error, exit_code=code,
-                   wall_time=wall, events_applied=applied, artifacts=artifacts)
+    return Outcome(**mission, collisions=collisions, max_localization_error=error, min_clearance=clearance,
+                   exit_code=code, wall_time=wall, events_applied=applied, artifacts=artifacts)
 
 
 def _write_report(plan: commands.RunPlan) -> None:

@@ -1,5 +1,10 @@
 """Which topics the viewer draws, and how each message becomes a page payload.
 
+Besides the fixed topics of ``LAYERS``, the collision monitor's zones are found by who publishes them
+(``POLYGON_PUBLISHER``): their topics are whatever each zone's ``polygon_pub_topic`` says (Jazzy's
+default: the zone's name), so the node gathers every PolygonStamped topic that node publishes into
+one ``collision_polygons`` layer (``polygons``).
+
 Each :class:`LayerSpec` names a layer key (what the page calls it), a default topic, the message
 types accepted on it (the first one present on the graph wins) and a converter. Converters run
 lazily, when a browser stream needs the layer (see ``hub``), so they may do real work: TF lookups,
@@ -23,6 +28,8 @@ GOAL_STATUS = {0: "UNKNOWN", 1: "ACCEPTED", 2: "EXECUTING", 3: "CANCELING", 4: "
                5: "CANCELED", 6: "ABORTED"}
 #: visualization_msgs/Marker types that mark a place (arrow, cube, sphere, cylinder); text is skipped.
 _PLACE_MARKERS = {0, 1, 2, 3}
+_SPHERE = 2  # Marker.SPHERE: one dot at pose.position
+_POINT_LISTS = {7, 8}  # Marker.SPHERE_LIST, Marker.POINTS: dots at points[]
 
 
 class DisplayFrames:
@@ -131,6 +138,50 @@ def footprint(msg: Any, frames: DisplayFrames, limit: int) -> dict[str, object]:
     return {"points": encode.flat(encode.transform_xy(pts, tf))}
 
 
+def _hex(color: Any) -> str:
+    """A std_msgs/ColorRGBA (0..1) as ``#rrggbb``."""
+    return "#" + "".join(f"{round(255 * min(max(v, 0.0), 1.0)):02x}" for v in (color.r, color.g, color.b))
+
+
+def marker_dots(msg: Any, frames: DisplayFrames, limit: int) -> dict[str, object]:
+    """A MarkerArray of SPHERE markers (MPPI's ``/trajectories``) or POINTS/SPHERE_LIST markers
+    (collision_monitor's ``collision_points_marker``) as dots: one group per namespace with its first
+    marker's colour, thinned evenly so that all groups together send at most ``limit`` dots.
+
+    Why groups: MPPI's optimal trajectory and its candidates are told apart by namespace and colour,
+    and each collision-monitor source has its own namespace. DELETE markers and other types are
+    skipped; a marker's frame is placed with the newest transform (sphere markers carry stamp 0).
+    """
+    groups: dict[str, tuple[Any, list[tuple[float, float]], str]] = {}
+    for marker in msg.markers:
+        if marker.action != 0:
+            continue
+        if marker.type == _SPHERE:
+            xy = [(marker.pose.position.x, marker.pose.position.y)]
+        elif marker.type in _POINT_LISTS:
+            xy = [(p.x, p.y) for p in marker.points]
+        else:
+            continue
+        if marker.ns not in groups:
+            groups[marker.ns] = (marker.header.frame_id, [], _hex(marker.color))
+        groups[marker.ns][1].extend(xy)
+    total = sum(len(points) for _frame, points, _colour in groups.values())
+    share = min(1.0, limit / total) if total else 1.0
+    out = []
+    for ns, (frame_id, points, colour) in groups.items():
+        rows = np.array(points, dtype=np.float64).reshape(-1, 2)
+        rows = encode.decimate(rows, max(1, round(len(rows) * share)))
+        out.append({"ns": ns, "color": colour,
+                    "points": encode.flat(encode.transform_xy(rows, frames.planar(frame_id, None)))})
+    return {"groups": out, "count": total}
+
+
+def polygons(msgs: dict[str, Any], frames: DisplayFrames, limit: int) -> dict[str, object]:
+    """The latest PolygonStamped of each collision-monitor zone topic: ``{topic: [x, y, ...]}``."""
+    return {"polygons": {topic: footprint(msg, frames, limit)["points"]
+                         for topic, msg in sorted(msgs.items())}}
+
+
 def battery(msg: Any, frames: DisplayFrames, limit: int) -> dict[str, object]:
     known = encode.finite_or_none
     return {"percentage": known(msg.percentage), "voltage": known(msg.voltage), "charge": known(msg.charge),
@@ -160,6 +211,9 @@ class LayerSpec:
 
 
 GRID = ("nav_msgs/msg/OccupancyGrid",)
+#: The collision-monitor zones: PolygonStamped topics published by this node, drawn as one layer.
+POLYGON_PUBLISHER, POLYGON_TYPE, POLYGON_LAYER = "collision_monitor", "geometry_msgs/msg/PolygonStamped", \
+    "collision_polygons"
 LAYERS: tuple[LayerSpec, ...] = (
     LayerSpec("map", "/map", GRID, grid, grid_digest),
     LayerSpec("global_costmap", "/global_costmap/costmap", GRID, grid, grid_digest),
@@ -176,6 +230,9 @@ LAYERS: tuple[LayerSpec, ...] = (
                                           "visualization_msgs/msg/MarkerArray"), waypoints),
     LayerSpec("footprint", "/local_costmap/published_footprint", ("geometry_msgs/msg/PolygonStamped",),
               footprint),
+    LayerSpec("trajectories", "/trajectories", ("visualization_msgs/msg/MarkerArray",), marker_dots),
+    LayerSpec("collision_points", "/collision_monitor/collision_points_marker",
+              ("visualization_msgs/msg/MarkerArray",), marker_dots),
     LayerSpec("battery", "/battery_state", ("sensor_msgs/msg/BatteryState",), battery),
     LayerSpec("nav_status", "/navigate_to_pose/_action/status", ("action_msgs/msg/GoalStatusArray",),
               goal_status),

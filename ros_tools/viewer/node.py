@@ -7,6 +7,10 @@ publisher of an accepted type exists, with QoS adapted to the publishers like RV
 ``ros2 topic echo``'s: best effort if any publisher is, transient local only if all are. So the map
 (transient local), the particle cloud (best effort) and whatever QoS another stack chose all connect.
 
+The collision monitor's zones have topics of the user's naming (``polygon_pub_topic``), so any
+PolygonStamped topic whose publisher is the node ``collision_monitor`` joins the one
+``collision_polygons`` layer (the latest outline per topic).
+
 Callbacks never convert: they hand the message to the hub as a lazy producer (latest value only).
 Event topics (transitions, behavior tree logs) are folded into monitors so no event is lost.
 """
@@ -72,6 +76,7 @@ class ViewerNode(Node):
         self.machines: dict[str, SmaccMonitor] = {}
         self._subscribed: dict[str, dict[str, object]] = {}  # topic → info shown on the page
         self._subs: list[Any] = []
+        self._zones: dict[str, Any] = {}  # collision-monitor zone topic → its latest PolygonStamped
         self._pub_initial = self.create_publisher(PoseWithCovarianceStamped, "/initialpose", CLICK_QOS)
         self._pub_goal = self.create_publisher(PoseStamped, "/goal_pose", CLICK_QOS)
         self._publish_info()
@@ -88,6 +93,8 @@ class ViewerNode(Node):
             self.get_logger().info("viewer: /clock found, stamping clicked poses with simulation time")
         for spec in layers.LAYERS:
             self._try_subscribe(graph, spec.topic, spec.types, self._layer_callback(spec), depth=1)
+        for topic in self._zone_topics(graph):
+            self._try_subscribe(graph, topic, layers.POLYGON_TYPE, functools.partial(self._on_zone, topic), 1)
         self._try_subscribe(graph, *BT_LOG, self._on_bt_log, depth=50)
         self._try_subscribe(graph, *BT_STRUCTURE, self._on_bt_structure, depth=1)
         for topic in graph:
@@ -97,6 +104,13 @@ class ViewerNode(Node):
                 handler = getattr(self, f"_on_smacc_{kind}")
                 self._try_subscribe(graph, topic, (SMACC_TYPES[kind],), functools.partial(handler, sm),
                                     depth=50 if kind == "transition_log" else 1)
+
+    def _zone_topics(self, graph: dict[str, list[str]]) -> list[str]:
+        """PolygonStamped topics the collision monitor publishes that are not subscribed yet."""
+        return [topic for topic, types in graph.items()
+                if layers.POLYGON_TYPE in types and topic not in self._subscribed
+                and any(info.node_name == layers.POLYGON_PUBLISHER
+                        for info in self.get_publishers_info_by_topic(topic))]
 
     def _uses_sim_time(self) -> bool:
         return bool(self.get_parameter("use_sim_time").value)
@@ -142,6 +156,11 @@ class ViewerNode(Node):
             hub.publish(spec.key, lambda: spec.convert(msg, frames, limit), digest)
 
         return on_message
+
+    def _on_zone(self, topic: str, msg: Any) -> None:
+        self._zones[topic] = msg
+        zones, frames, limit = dict(self._zones), self.frames, self.params.max_poses
+        self.hub.publish(layers.POLYGON_LAYER, lambda: layers.polygons(zones, frames, limit))
 
     def _on_bt_log(self, msg: Any) -> None:
         self.bt.apply(BtEvent(_seconds(e.timestamp), e.node_name, e.uid, e.previous_status, e.current_status)

@@ -28,7 +28,9 @@ ROS surface (names relative to the node namespace unless absolute):
        battery_state, sim2d/collisions (PointStamped per new contact),
        detected_dock_pose (geometry_msgs/PoseStamped, the seen dock's tag in base_link; only in a world
        with docks, only while a tag is seen: sim2d/core/dock_detection.py),
-       sim2d/collision_count (UInt32, transient local), sim2d/real_time_factor (Float64, achieved)
+       sim2d/collision_count (UInt32, transient local), sim2d/real_time_factor (Float64, achieved),
+       sim2d/clearance (Float64, m: the true gap between the robot's footprint and the nearest obstacle,
+       with each odom while someone subscribes; sim2d/core/clearance.py)
   srv  sim2d/reset (std_srvs/Empty), sim2d/pause (std_srvs/SetBool: true pauses)
 """
 
@@ -52,6 +54,7 @@ from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
 
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, REPORT_PERIOD
+from sim2d.core.clearance import simulator_clearance
 from sim2d.core.command_schedule import CommandSchedule
 from sim2d.core.lockstep import LockstepGate
 from sim2d.core.robot import robot_model
@@ -68,6 +71,7 @@ SCAN_TOPIC, ODOM_TOPIC, CMD_VEL_TOPIC = "scan", "odom", "cmd_vel"
 GROUND_TRUTH_TOPIC, BATTERY_TOPIC = "ground_truth", "battery_state"
 COLLISIONS_TOPIC, COLLISION_COUNT_TOPIC = "sim2d/collisions", "sim2d/collision_count"
 RTF_TOPIC = "sim2d/real_time_factor"
+CLEARANCE_TOPIC = "sim2d/clearance"
 DETECTED_DOCK_TOPIC = "detected_dock_pose"   # opennav_docking SimpleChargingDock's subscription
 RESET_SERVICE, PAUSE_SERVICE = "sim2d/reset", "sim2d/pause"
 
@@ -150,6 +154,7 @@ class Sim2dNode(Node):
         self.pub_collision = self.create_publisher(PointStamped, COLLISIONS_TOPIC, RELIABLE_10)
         self.pub_collision_count = self.create_publisher(UInt32, COLLISION_COUNT_TOPIC, LATCHED)
         self.pub_rtf = self.create_publisher(Float64, RTF_TOPIC, RELIABLE_10)
+        self.pub_clearance = self.create_publisher(Float64, CLEARANCE_TOPIC, RELIABLE_10)
         self.pub_dock = self.create_publisher(PoseStamped, DETECTED_DOCK_TOPIC, RELIABLE_10) \
             if self.sim.docks else None
         self._cmd_type = TwistStamped if cfg.node.enable_stamped_cmd_vel else Twist
@@ -212,6 +217,10 @@ class Sim2dNode(Node):
                                                    odom.variance_rot))
             self.pub_tf.publish(self._tf.build(now, odom.pose))
             self.pub_truth.publish(self._truth.build(now, sim.pose, sim.v, sim.w, 0.0, 0.0))
+            # at the odometry rate, not every physics step, and only for a listener: one evaluation costs
+            # about 20 physics steps (bench/bench_clearance.py)
+            if self.pub_clearance.get_subscription_count() > 0:
+                self.pub_clearance.publish(Float64(data=simulator_clearance(sim)))
             due["odom"] = self._next_due(due["odom"], self._periods["odom"], now)
         if now >= due["scan"]:
             self.pub_scan.publish(self._scan.build(now, sim.scan()))

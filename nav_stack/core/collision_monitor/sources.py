@@ -79,8 +79,12 @@ def within_height(points_in_base: FloatArray, min_height: float, max_height: flo
 
 def source_valid(stamp: float, now: float, source_timeout: float) -> bool:
     """False when data stamped ``stamp`` is more than ``source_timeout`` s older than ``now`` (both
-    s of the node clock); a timeout of 0 accepts any age (Nav2's sourceValid)."""
-    return source_timeout == 0.0 or now - stamp <= source_timeout
+    s of the node clock); a timeout of 0 accepts any age (Nav2's sourceValid).
+
+    The age is compared in whole nanoseconds, as Nav2 compares rclcpp durations: in float seconds,
+    102.55 - 100.55 exceeds 2.0 and data exactly ``source_timeout`` old would stop the robot.
+    """
+    return source_timeout == 0.0 or round((now - stamp) * 1e9) <= round(source_timeout * 1e9)
 
 
 def rigid_from_quaternion(x: float, y: float, z: float, qx: float, qy: float, qz: float,

@@ -6,12 +6,15 @@ const LAYERS = [  // [key, label, on by default] in drawing order
   ['map', 'Map', true], ['global_costmap', 'Global costmap', true], ['local_costmap', 'Local costmap', true],
   ['particles', 'Particle cloud', true], ['plan', 'Global plan', true], ['local_plan', 'Local plan', true],
   ['waypoints', 'Waypoints', true], ['goal', 'Goal', true], ['scan', 'Laser scan', true],
+  ['trajectories', 'MPPI trajectories', true], ['collision_polygons', 'Collision polygons', true],
+  ['collision_points', 'Collision points', true],
   ['footprint', 'Footprint', true], ['truth', 'Ground truth', true], ['amcl', 'AMCL pose', true],
 ];
 const GRIDS = new Set(['map', 'global_costmap', 'local_costmap']);
 const COLORS = {
   background: '#303338', scan: '#ff3b30', plan: '#3fb950', local_plan: '#f0b429', particles: '#d2a8ff',
   truth: '#40c463', amcl: '#ff9f1c', goal: '#ff4fd8', waypoints: '#4aa3ff', footprint: '#00e5ff', drag: '#ffffff',
+  collision_polygons: '#ff6b6b',
 };
 
 const viewer = {
@@ -167,6 +170,17 @@ function drawRobot([x, y, yaw], color, px, fill) {
   ctx.stroke();
 }
 
+function drawDots(v, px) {  // groups of [x, y, ...] dots, each in its own colour (layers.marker_dots)
+  const d = 2.5 * px;
+  let n = 0;
+  for (const g of v.groups) {
+    ctx.fillStyle = g.color;
+    for (let i = 0; i < g.points.length; i += 2) ctx.fillRect(g.points[i] - d / 2, g.points[i + 1] - d / 2, d, d);
+    n += g.points.length / 2;
+  }
+  return n;
+}
+
 const DRAW = {
   map: drawGrid, global_costmap: drawGrid, local_costmap: drawGrid,
   particles(v, px) {
@@ -215,6 +229,17 @@ const DRAW = {
     ctx.fillStyle = COLORS.scan;
     for (let i = 0; i < p.length; i += 2) ctx.fillRect(p[i] - d / 2, p[i + 1] - d / 2, d, d);
     return p.length / 2;
+  },
+  trajectories: drawDots,       // MPPI's sampled and optimal trajectories, in their markers' colours
+  collision_points: drawDots,   // the points the collision monitor used, one group per source
+  collision_polygons(v, px) {   // the collision monitor's zones (Stop, Slowdown, ...), one outline per topic
+    let n = 0;
+    for (const p of Object.values(v.polygons)) {
+      if (p.length < 6) continue;
+      polyline([...p, p[0], p[1]], 2, COLORS.collision_polygons, 1.5 * px);
+      n += 1;
+    }
+    return n;
   },
   footprint(v, px) {
     const p = v.points;

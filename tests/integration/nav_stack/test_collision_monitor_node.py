@@ -3,12 +3,15 @@ base_scan) and fake sensors:
 
 * a LaserScan: no scan yet stops the robot ("invalid source"); a wall 0.3 m ahead stops it (state
   names the stop polygon); at 0.7 m only the circle slows it, as at 0.3 m with the stop polygon
-  switched off at run time; gone, 0.3 m/s passes unchanged; a zero input is published for
-  stop_pub_timeout, then the node falls silent; the polygon and the collision points are published
-  for viewers;
+  switched off at run time; gone, 0.3 m/s passes unchanged; a scan that stops coming stops the
+  robot once it is older than source_timeout ("invalid source", the log names the source); a zero
+  input is published for stop_pub_timeout, then the node falls silent; the polygon and the collision
+  points (Jazzy's marker: one per source, namespace collision_points_<source>) are published for
+  viewers;
 * a synthetic PointCloud2 with TwistStamped: an approach polygon shaped by a footprint topic slows
   the robot, a floor point below min_height is ignored, a point in the stop polygon stops it, and
-  the output keeps the input's stamp and frame;
+  the output keeps the input's stamp and frame; a zone with ``visualize`` and no polygon_pub_topic
+  is published on its own name (Jazzy's default);
 * bad parameters fail configure naming the parameter and the value;
 * the sources' transform: base shift correction through odom, within transform_tolerance.
 """
@@ -17,6 +20,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -98,7 +102,10 @@ class Probe(Node):
         self.subs = [self.create_subscription(kind, "cmd_vel", self.outputs.append, CMD_VEL_QOS),
                      self.create_subscription(CollisionMonitorState, "collision_monitor_state",
                                               self.states.append, DEFAULT)]
+        self.named_polygons: list[PolygonStamped] = []
         self.extra = [self.create_subscription(PolygonStamped, "polygon_stop", self.polygons.append, DEFAULT),
+                      self.create_subscription(PolygonStamped, "PolygonStop", self.named_polygons.append,
+                                               DEFAULT),
                       self.create_subscription(MarkerArray, "collision_monitor/collision_points_marker",
                                                self.markers.append, DEFAULT)]
         self.tf_static = StaticTransformBroadcaster(self)
@@ -190,7 +197,7 @@ def scan_rig(ros_context: Any) -> Iterator[tuple[Probe, Any]]:
 
 
 def test_a_scan_obstacle_stops_or_slows_the_command_and_a_clear_path_passes_it(
-        scan_rig: tuple[Probe, Any]) -> None:
+        scan_rig: tuple[Probe, Any], capfd: Any) -> None:
     probe, server = scan_rig
     stopped = (1, "PolygonStop")
 
@@ -214,8 +221,11 @@ def test_a_scan_obstacle_stops_or_slows_the_command_and_a_clear_path_passes_it(
     probe.step_until(lambda: probe.vx() == pytest.approx(0.15), "half speed", send(0.7))
     probe.step_until(lambda: bool(probe.markers and probe.markers[-1].markers[0].points), "collision points",
                      send(0.7))
-    marker = probe.markers[-1].markers[0]
-    assert marker.header.frame_id == "base_footprint" and marker.ns == "collision_points"
+    (marker,) = probe.markers[-1].markers  # one source: one marker
+    assert (marker.header.frame_id, marker.ns, marker.id, marker.type) == ("base_footprint",
+                                                                           "collision_points_scan", 0, 8)
+    assert (marker.header.stamp.sec, marker.header.stamp.nanosec, marker.frame_locked) == (0, 0, True)
+    assert (marker.scale.x, marker.color.r, marker.color.g, marker.color.a) == pytest.approx((0.02, 1, 0, 1))
     assert min(p.x for p in marker.points) == pytest.approx(0.7, abs=1e-3)  # the wall, in the base frame
     # Run-time <polygon>.enabled, as Nav2 takes it: without the stop zone, the circle slows.
     assert server.set_parameters([Parameter("PolygonStop.enabled", value=False)])[0].successful
@@ -225,6 +235,20 @@ def test_a_scan_obstacle_stops_or_slows_the_command_and_a_clear_path_passes_it(
     probe.step_until(lambda: state() == stopped, "stop with the stop zone on again", send(0.3))
     probe.step_until(lambda: state() == (0, ""), "normal operation without the wall", send(None))
     probe.step_until(lambda: probe.vx() == 0.3, "the command unchanged", send(None))
+
+    # The scan stops coming (a hung driver): once its newest data is older than source_timeout (2 s),
+    # the robot stops as for a missing source, and the log says which source and how old its data is.
+    last_scan = probe.now_ns
+    capfd.readouterr()  # only what follows counts
+    probe.step_until(lambda: state() == (1, "invalid source"), "stop for a stale scan",
+                     lambda: probe.command(0.3), ticks=60)
+    assert probe.vx() == 0.0
+    assert 2.0 < (probe.now_ns - last_scan) * 1e-9 <= 2.0 + 2 * TICK_NS * 1e-9
+    err = capfd.readouterr().err
+    assert re.search(r"\[scan\]: latest data is 2\.\d+ s old \(source_timeout 2\.0 s\)", err), err
+    assert "Robot to stop due to invalid source (scan: latest data is" in err, err
+    probe.step_until(lambda: state() == (0, "") and probe.vx() == 0.3, "normal operation with fresh scans",
+                     send(None))
 
     # A stopped input: zeros for stop_pub_timeout (1 s) from the first zero, then silence.
     probe.step_until(lambda: probe.vx() == 0.0, "the input's zero",
@@ -250,6 +274,7 @@ def cloud_rig(ros_context: Any) -> Iterator[tuple[Probe, Any]]:
             Parameter("PolygonStop.type", value="polygon"),
             Parameter("PolygonStop.points", value="[[0.25, 0.3], [0.25, -0.3], [0.0, -0.3], [0.0, 0.3]]"),
             Parameter("PolygonStop.action_type", value="stop"),
+            Parameter("PolygonStop.visualize", value=True),  # no polygon_pub_topic: on its own name
             Parameter("FootprintApproach.type", value="polygon"),
             Parameter("FootprintApproach.action_type", value="approach"),
             Parameter("FootprintApproach.min_points", value=6),
@@ -291,6 +316,9 @@ def test_a_point_cloud_drives_approach_and_stop_and_stamped_commands_keep_their_
     probe.step_until(lambda: probe.vx() == 0.0, "stop for points in the stop polygon", send(0.22, 0.2))
     assert (probe.states[-1].action_type, probe.states[-1].polygon_name) == (1, "PolygonStop")
     assert server.monitor.zones[1].outline is not None  # the footprint arrived through its topic
+    probe.step_until(lambda: bool(probe.named_polygons), "the stop polygon on its own name", send(0.22, 0.2))
+    assert [c for p in probe.named_polygons[-1].polygon.points for c in (p.x, p.y)] == pytest.approx(
+        [0.25, 0.3, 0.25, -0.3, 0.0, -0.3, 0.0, 0.3])
 
 
 @pytest.mark.parametrize(("params", "message"), [

@@ -60,6 +60,10 @@ def test_a_synthetic_point_cloud_keeps_the_points_within_the_height_window_in_th
 def test_a_source_older_than_its_timeout_is_invalid_and_a_zero_timeout_never_expires() -> None:
     assert source_valid(10.0, 12.0, 2.0)
     assert not source_valid(10.0, 12.01, 2.0)
+    now = 102_050_000_000 * 1e-9  # the node clock's ns as s, as the node computes it
+    assert now - 100.05 > 2.0  # float seconds: exactly the timeout looks older (Nav2 stops on age > timeout)
+    assert source_valid(100.05, now, 2.0)
+    assert not source_valid(100.05, now + 1e-9, 2.0)
     assert source_valid(10.0, 1000.0, 0.0)
 
 

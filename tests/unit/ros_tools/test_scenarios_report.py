@@ -119,3 +119,13 @@ def test_the_sweep_kills_every_process_carrying_the_run_marker() -> None:
         if child.poll() is None:
             child.kill()
             child.wait()
+
+
+def test_the_row_and_the_summary_show_the_smallest_clearance() -> None:
+    outcome = Outcome("SUCCESS", sim_time=12.0, collisions=0, wall_time=8.0, min_clearance=0.0734)
+    result = _result("cm", outcome)
+    assert row_text(Row("cm", "passed", None, outcome, result.verdict), 2, 0.0) == \
+        "cm  passed     8.0 s  sim 12.0 s, clearance 0.073 m"
+    page = summary_html("Scenarios: cm", [result], Path("/out"), 10.0)
+    assert "<th>min clearance m</th>" in page and "<td>0.073</td>" in page
+    assert "min_clearance: 0.0734" in junit_xml("cm", [result])

@@ -163,3 +163,42 @@ def test_a_file_without_a_scenarios_list_is_rejected(tmp_path: Path) -> None:
     path.write_text(yaml.safe_dump({"defaults": {}}))
     with pytest.raises(ScenarioError, match="expected a mapping with a 'scenarios' list"):
         load_scenarios(path, CONFIG)
+
+
+def test_min_clearance_and_parameter_files_load_and_the_shipped_collision_monitor_file_is_valid() -> None:
+    document = _one(expect={"min_clearance": 0.05, "max_collisions": 0},
+                    params=["config/nav2_params.yaml", "config/scenarios/collision_monitor_params.yaml"])
+    (scenario,) = parse_scenarios(document, "file.yaml", CONFIG, REPO)
+    assert scenario.expect.min_clearance == 0.05
+    overlay = CONFIG / "scenarios" / "collision_monitor_params.yaml"
+    assert scenario.params == (CONFIG / "nav2_params.yaml", overlay)
+    (single,) = parse_scenarios(_one(params="config/nav2_params.yaml"), "file.yaml", CONFIG, REPO)
+    assert single.params == (CONFIG / "nav2_params.yaml",)
+    assert parse_scenarios(_one(), "file.yaml", CONFIG, REPO)[0].params == ()  # the robot's default
+    (shipped,) = load_scenarios(CONFIG / "scenarios" / "collision_monitor.yaml", CONFIG)
+    assert shipped.expect.min_clearance == 0.05 and shipped.expect.max_collisions == 0
+    assert [e.kind for e in shipped.events] == ["obstacle"]
+    assert shipped.params[-1].name == "collision_monitor_params.yaml"
+
+
+@pytest.mark.parametrize(("fields", "field", "value"), [
+    ({"expect": {"min_clearance": -0.01}}, "expect.min_clearance", "-0.01"),
+    ({"expect": {"min_clearance": "5 cm"}}, "expect.min_clearance", "'5 cm'"),
+    ({"params": []}, "params", "[]"),
+    ({"params": ["config/no_such_params.yaml"]}, "params[0]", "'config/no_such_params.yaml'"),
+])
+def test_a_bad_clearance_bound_or_parameter_file_names_its_field_and_value(
+        fields: dict[str, Any], field: str, value: str) -> None:
+    message = _error(_one(**fields))
+    assert message.startswith(f"file.yaml: scenario 's1': {field}: "), message
+    assert f"(got {value})" in message
+
+
+def test_a_goal_list_may_limit_each_goal_s_sim_time() -> None:
+    document = _one(mission={"goals": [[1, 2]], "max_goal_time": 20})
+    (limited,) = parse_scenarios(document, "f.yaml", CONFIG, REPO)
+    assert limited.mission == GoalsMission((Pose2D(1.0, 2.0, 0.0),), 20.0)
+    message = _error(_one(mission={"goals": [[1, 2]], "max_goal_time": 0}))
+    assert "mission.max_goal_time: expected a number > 0 (got 0)" in message
+    message = _error(_one(mission={"state_machine": "sm_nav2_test_1", "max_goal_time": 5}))
+    assert "mission.max_goal_time: not a field of a state_machine mission" in message

@@ -195,3 +195,42 @@ def test_a_teleport_sim2d_refused_does_not_count_as_applied(tmp_path: Path) -> N
     (tmp_path / "sim2d.log").write_text("[WARN] [sim2d]: sim2d: teleport to Pose2D(x=0.0, y=0.0, yaw=0.0) "
                                         "refused: footprint overlaps an obstacle\n")
     assert _applied_events(tmp_path) == ()
+
+
+def test_min_clearance_fails_below_its_bound_or_unmeasured_and_passes_at_or_above_it() -> None:
+    expect = Expect(min_clearance=0.05)
+    assert judge(expect, _outcome(min_clearance=0.05)).passed
+    assert judge(expect, _outcome(min_clearance=0.2)).passed
+    close = judge(expect, _outcome(min_clearance=0.031))
+    assert close.failures == ("min_clearance: 0.031 m < 0.05 m",) and close.criterion == "min_clearance"
+    assert judge(expect, _outcome()).failures == ("min_clearance: not measured (bound 0.05 m)",)
+    assert judge(Expect(), _outcome()).passed  # no bound: not checked
+    assert Outcome.from_json(_outcome(min_clearance=0.07).to_json()).min_clearance == 0.07
+
+
+def test_parameter_files_reach_nav_bringup_in_order_and_the_clearance_is_recorded(tmp_path: Path) -> None:
+    document = {"scenarios": [{"name": "cm", "mission": {"goals": [[1, 2, 0]]},
+                               "params": ["config/nav2_params.yaml",
+                                          "config/scenarios/collision_monitor_params.yaml"]}]}
+    (scenario,) = parse_scenarios(document, "f.yaml", REPO / "config", REPO)
+    plan = commands.plan(scenario, tmp_path, REPO)
+    assert plan.stack is not None
+    flags = [plan.stack[i + 1] for i, arg in enumerate(plan.stack) if arg == "--params"]
+    assert flags == [str(REPO / "config" / "nav2_params.yaml"),
+                     str(REPO / "config" / "scenarios" / "collision_monitor_params.yaml")]
+    assert "/sim2d/clearance" in commands.RECORDED_TOPICS
+    patrol_doc = {"scenarios": [{"name": "m", "mission": {"state_machine": "sm_battery_patrol"},
+                                 "params": "config/nav2_params.yaml"}]}
+    machine = parse_scenarios(patrol_doc, "f.yaml", REPO / "config", REPO)[0]
+    patrol = commands.plan(machine, tmp_path, REPO)
+    assert f"--bringup-arg={REPO / 'config' / 'nav2_params.yaml'}" in patrol.mission
+
+
+def test_a_goal_time_limit_reaches_the_goal_driver_and_a_canceled_goal_is_an_abort(tmp_path: Path) -> None:
+    scenario = _scenario({"goals": [[1, 2, 0]], "max_goal_time": 20})
+    plan = commands.plan(scenario, tmp_path, REPO)  # type: ignore[arg-type]
+    assert plan.mission[-2:] == ["--goal-time", "20"]
+    lines = ["goal 1: not done after 20 s sim: canceling",
+             "goal 1: result: CANCELED (error_code 0) in 20.05 s sim", "goals: 0 of 1 reached; sim 20.10 s"]
+    facts = outcome.goal_facts(lines, 1)
+    assert (facts.result, facts.result_code, facts.sim_time) == ("ABORT", 0, 20.1)
