@@ -66,7 +66,10 @@ REPLAY_TOPICS = ("/scan", "/odom", "/tf", "/tf_static", "/cmd_vel", "/local_plan
 #: Nav2 Jazzy's velocity chain, when the parameter files configure it (controller → /cmd_vel_nav →
 #: velocity_smoother → /cmd_vel_smoothed → collision_monitor → /cmd_vel): each stage's output.
 CHAIN_TOPICS = ("/cmd_vel_nav", "/cmd_vel_smoothed")
-RECORDED_TOPICS = REPORT_TOPICS + REPLAY_TOPICS + CHAIN_TOPICS
+#: sim2d's ground-truth gap to the nearest obstacle (m), for the scenario farm's ``min_clearance``
+#: (sim2d computes it only for a listener: about 10 ms of CPU per sim second)
+CLEARANCE_TOPICS = ("/sim2d/clearance",)
+RECORDED_TOPICS = REPORT_TOPICS + REPLAY_TOPICS + CHAIN_TOPICS + CLEARANCE_TOPICS
 
 
 def recorder_spec(report: Path) -> ProcessSpec:
