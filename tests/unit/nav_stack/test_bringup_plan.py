@@ -127,3 +127,20 @@ def test_the_velocity_chain_always_ends_on_cmd_vel(tmp_path: Path, nodes: tuple[
     monitor = section(cmd_vel_in_topic="cmd_vel_smoothed")
     params = NavParams([write(tmp_path, "p.yaml", {"collision_monitor": monitor})])
     assert set(cmd_vel_remaps(nodes, params)) == expected
+
+
+def test_the_project_files_leave_the_lists_to_bringup_and_an_overlay_adds_its_server() -> None:
+    """The shipped files have no node_names (as Nav2's), so an overlay that configures an optional
+    server (a dock database, a collision monitor) gets it started without repeating the list."""
+    config = REPO / "config"
+    base = ("controller_server", "planner_server", "behavior_server", "bt_navigator", "waypoint_follower")
+    for robot_file in (config / "nav2_params.yaml", config / "nav2_params_tb4.yaml"):
+        plan = plan_bringup([robot_file])
+        assert plan.navigation.node_names == base
+        assert plan.localization.node_names == ("map_server", "amcl")
+        assert plan.navigation.autostart and plan.localization.autostart
+    docked = plan_bringup([config / "nav2_params.yaml", config / "docks" / "turtlebot3_world.yaml"])
+    assert docked.navigation.node_names == (*base, "docking_server")
+    monitor = config / "scenarios" / "collision_monitor_params.yaml"
+    guarded = plan_bringup([config / "nav2_params.yaml", monitor])
+    assert guarded.navigation.node_names == (*base[:3], "collision_monitor", *base[3:])
