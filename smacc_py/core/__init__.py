@@ -9,7 +9,8 @@ The modules form a stack, listed bottom-up; each imports only from the layers be
 import-linter ``layers`` contract in pyproject.toml checks this, TYPE_CHECKING imports included).
 
 1. Foundations: ``errors`` (exception types), ``tags`` (``SUCCESS``, ``ABORT`` ...), ``params``
-   (``SmaccEngineParams``), ``updatable`` (``ISmaccUpdatable``).
+   (``SmaccEngineParams``), ``updatable`` (``ISmaccUpdatable``), ``declared_names`` (the registry of
+   ``parent=`` declarations and where each class lives, for resolving names).
 2. ``events`` (parameterised event classes) and ``global_data`` (the machine's blackboard).
 3. ``transition``: ``Transition`` and ``History`` declarations.
 4. ``ports``: the protocols through which parts reach their machine and state (``MachinePort``,

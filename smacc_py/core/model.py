@@ -23,16 +23,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
+from smacc_py.core.declared_names import bind_parent, declared_children, home, named_parent_orphans
 from smacc_py.core.errors import InvalidDefinitionError
 from smacc_py.core.events import SmaccEvent
-from smacc_py.core.state import (
-    ReactorConfig,
-    SmaccState,
-    bind_parent,
-    declared_children,
-    home,
-    named_parent_orphans,
-)
+from smacc_py.core.state import ReactorConfig, SmaccState
 from smacc_py.core.tags import TransitionTag
 from smacc_py.core.transition import Guard, History, Transition
 
@@ -80,8 +74,8 @@ class MachineModel:
         orphans = named_parent_orphans(home(sm_type))
         if orphans:
             raise InvalidDefinitionError("; ".join(
-                f"{c.__name__} ({c.__module__}): parent={c.parent_decl!r} names no state of "
-                f"{sm_type.__name__} (nor any state or machine next to it; states of "
+                f"{c.__name__} ({c.__module__}): parent={getattr(c, 'parent_decl', None)!r} names no state "
+                f"of {sm_type.__name__} (nor any state or machine next to it; states of "
                 f"{sm_type.__name__}: {', '.join(sorted(self._names)) or 'none'})" for c in orphans))
         initial_ref = getattr(sm_type, "initial_state", None)
         if initial_ref is None:

@@ -6,8 +6,8 @@ What a state class declares (all checked when the class is created, errors name 
   (``class StiForward(SmaccState, parent=SsPatrol)``), or its name (``parent="SsPatrol"``), resolved when
   the machine is compiled: a machine split across modules then needs no import cycle, and superstates and
   their inner states may be defined in any order. A name matches a class of the same package (or of the
-  same directory, or of the same function body). Omitted: a free top-level state that any machine
-  reaching it adopts.
+  same directory, or of the same function body); ``declared_names`` keeps these declarations until
+  then. Omitted: a free top-level state that any machine reaching it adopts.
 * ``reactions``: a list of ``Transition``; innermost state first, first match in list order wins.
 * ``inner_initial_state``: makes the class a superstate (a class or a forward-referenced name).
 * ``static_configure()`` classmethod: calls ``configure_orthogonal``, ``static_create_state_reactor`` and
@@ -25,14 +25,12 @@ this one; the machine sits above (it is compiled from states) and a state reache
 from __future__ import annotations
 
 import inspect
-import os
-import sys
-import weakref
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
 
 from smacc_py.core.client_behavior import ISmaccClientBehavior
+from smacc_py.core.declared_names import register_state
 from smacc_py.core.errors import InvalidDefinitionError, SmaccLookupError
 from smacc_py.core.event_generators import SmaccEventGenerator
 from smacc_py.core.events import (
@@ -100,84 +98,6 @@ def _check_signature(owner: str, factory: Callable[..., Any], args: tuple[Any, .
                                      f"{exc}") from None
 
 
-#: States declared with ``parent="Name"`` and not yet bound to a class, by that name. A machine's compile
-#: binds the ones it uses (``bind_parent``), which moves them to their parent's list; defining a state
-#: again (a notebook cell run twice) replaces its unbound namesake.
-_NAMED_CHILDREN: dict[str, list[type]] = {}
-#: Every machine class, so that a ``parent="SmName"`` can be told from a typo (see ``named_parent_orphans``).
-#: Weak: a test that defines machines in its body must not keep them alive.
-_MACHINES: weakref.WeakSet[type] = weakref.WeakSet()
-
-
-def _register_child(parent: type | str, child: type) -> None:
-    if isinstance(parent, str):
-        pending = _NAMED_CHILDREN.setdefault(parent, [])
-        pending[:] = [c for c in pending if c.__name__ != child.__name__ or home(c) != home(child)]
-        pending.append(child)
-        return
-    children = parent.__dict__.get("_declared_children")
-    if children is None:
-        children = []
-        type.__setattr__(parent, "_declared_children", children)
-    children.append(child)
-
-
-def register_machine(machine: type) -> None:
-    """Record a machine class (SmaccStateMachineBase does, for each subclass)."""
-    home(machine)
-    _MACHINES.add(machine)
-
-
-def home(cls: type) -> tuple[str, ...]:
-    """Where a class lives for name resolution: its function body (module and enclosing name) when
-    defined in one, else its top-level package, else (a module run from a folder) its folder, else its
-    module. Computed once, when first asked (at class creation), so it stays put if the module is
-    later removed from ``sys.modules``."""
-    found = cls.__dict__.get("_smacc_home")
-    if found is None:
-        if "<locals>" in cls.__qualname__:
-            found = ("scope", cls.__module__, cls.__qualname__.rpartition(".")[0])
-        elif "." in cls.__module__:
-            found = ("package", cls.__module__.partition(".")[0])
-        else:
-            path = getattr(sys.modules.get(cls.__module__), "__file__", None)
-            found = ("folder", os.path.dirname(os.path.abspath(path))) if path else ("module", cls.__module__)
-        type.__setattr__(cls, "_smacc_home", found)
-    return found
-
-
-def declared_children(parent: type) -> list[type[SmaccState]]:
-    """States that named ``parent`` (a machine or a superstate) in their ``parent=`` keyword: by class (or
-    by name, once bound), or by name from the same home (``home``) and not yet bound."""
-    named = [c for c in _NAMED_CHILDREN.get(parent.__name__, ()) if home(c) == home(parent)]
-    return [*parent.__dict__.get("_declared_children", ()), *named]
-
-
-def bind_parent(child: type, parent: type) -> None:
-    """Bind a ``parent="Name"`` to ``parent`` for good, once a machine compiled with it: a factory that
-    defines the same classes again (a test building one machine per call) never mixes two calls' states,
-    and the state lives as long as its parent, as one declared with ``parent=Class`` does."""
-    pending = _NAMED_CHILDREN.get(str(child.__dict__.get("parent_decl")), [])
-    if child in pending:
-        pending.remove(child)
-        _register_child(parent, child)
-
-
-def named_parent_orphans(where: tuple[str, ...]) -> list[type[SmaccState]]:
-    """States of home ``where`` whose ``parent="Name"`` names no state or machine class of that home."""
-    named = [(name, c) for name, children in _NAMED_CHILDREN.items() for c in children if home(c) == where]
-    if not named:
-        return []
-    names = {c.__name__ for c in _MACHINES if home(c) == where}
-    pending: list[type[SmaccState]] = [SmaccState]
-    while pending:  # every live state class
-        for sub in pending.pop().__subclasses__():
-            pending.append(sub)
-            if home(sub) == where:
-                names.add(sub.__name__)
-    return [child for name, child in named if name not in names]
-
-
 class SmaccState:
     """Base class of every state and superstate (``smacc2::SmaccState<St, Context, InnerInitial>``);
     implements the ``StatePort`` its behaviors, reactors and generators use."""
@@ -206,9 +126,7 @@ class SmaccState:
                 f"name, got {parent!r}"
             )
         cls.parent_decl = parent
-        home(cls)
-        if parent is not None:
-            _register_child(parent, cls)
+        register_state(cls, parent)
         cls._exit_hooks = {}
         reactions = cls.__dict__.get("reactions", cls.reactions)
         if isinstance(reactions, (str, bytes)) or not isinstance(reactions, Iterable):

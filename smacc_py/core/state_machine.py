@@ -41,6 +41,7 @@ from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 from smacc_py.core.assembly import MachineAssembly, StandInFactory, check_substitutes
+from smacc_py.core.declared_names import register_machine
 from smacc_py.core.errors import InvalidDefinitionError, SmaccError
 from smacc_py.core.events import SmaccEvent
 from smacc_py.core.global_data import GlobalData
@@ -51,7 +52,7 @@ from smacc_py.core.orthogonal import Orthogonal
 from smacc_py.core.params import SmaccEngineParams
 from smacc_py.core.ports import SmaccLogger
 from smacc_py.core.reactors import StateReactor
-from smacc_py.core.state import SmaccState, register_machine
+from smacc_py.core.state import SmaccState
 from smacc_py.core.state_machine_queries import StateMachineQueries
 from smacc_py.core.updatable import poll_updatables
 

@@ -1,8 +1,9 @@
 """A user's own machine from scratch: ``smacc-new`` writes it in a folder outside the repository, ruff and
-its own test pass, ``smacc-run <path>`` runs it on the ROS graph, its transitions arrive on the SMACC2
-introspection topic, and Ctrl-C ends the run with exit status 0 and no traceback.
+its own test pass, ``smacc-graph <path>`` draws it, ``smacc-run <path>`` runs it on the ROS graph, its
+transitions arrive on the SMACC2 introspection topic, and Ctrl-C ends the run with exit status 0 and no
+traceback.
 
-One test, as it starts processes: the scaffold, ruff, the package's pytest and the machine.
+One test, as it starts processes: the scaffold, ruff, the package's pytest, the graph and the machine.
 """
 
 from __future__ import annotations
@@ -58,6 +59,8 @@ def test_smacc_new_package_runs_by_path_and_stops_quietly(tmp_path: Path, ros_co
     tested = _run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "sm_probe_machine/tests"],
                   tmp_path)
     assert tested.returncode == 0 and "1 passed" in tested.stdout, tested.stdout
+    graph = _run([*_command("smacc-graph", "smacc_py.ros.graph_cli"), "./sm_probe_machine"], tmp_path)
+    assert graph.returncode == 0 and "StState1" in graph.stdout, graph.stderr
 
     probe = rclpy.create_node("smacc_new_probe", context=ros_context)
     executor = SingleThreadedExecutor(context=ros_context)

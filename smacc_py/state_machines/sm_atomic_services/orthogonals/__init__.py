@@ -1,0 +1,1 @@
+"""The orthogonals of sm_atomic_services (upstream's ``orthogonals/``)."""

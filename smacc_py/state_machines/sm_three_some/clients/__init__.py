@@ -1,0 +1,1 @@
+"""The machine's own client (upstream's ``clients/cl_subscriber``)."""
