@@ -25,9 +25,9 @@ from smacc_py.clients.cl_nav2z import (
     CpPose,
 )
 from smacc_py.clients.cl_nav2z.client import ACTION_TYPES, NAVIGATE_TO_POSE
-from smacc_py.clients.cl_ros2_timer import ClRos2Timer
 from smacc_py.core import ISmaccUpdatable
 from smacc_py.ros.action_client import DoneCallback, FeedbackCallback, GoalOutcome, GoalTicket
+from smacc_py.testing import ManualClRos2Timer
 
 if TYPE_CHECKING:
     from tests.helpers.smacc_fake_nav import ScriptedNav2
@@ -204,39 +204,8 @@ class ScriptedCpGoalCheckerSwitcher(CpGoalCheckerSwitcher):
         self._pub = RecordingPublisher()  # type: ignore[assignment]
 
 
-class ScriptedTimer:
-    """A node timer on the machine clock: due every ``period_s`` from its creation."""
-
-    def __init__(self, period_s: float, callback: Callable[[], None], now_s: float) -> None:
-        self.period_s, self.callback, self.next_s = period_s, callback, now_s + period_s
-        self.cancelled = False
-
-    def cancel(self) -> None:
-        self.cancelled = True
-
-
-class ScriptedClRos2Timer(ClRos2Timer, ISmaccUpdatable):
-    """ClRos2Timer whose timers fire on the machine's polls."""
-
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        self.timers: list[ScriptedTimer] = []
-
-    def create_timer(self, period_s: float, callback: Callable[[], None]) -> ScriptedTimer:
-        timer = ScriptedTimer(period_s, callback, self.sm.now())
-        self.timers.append(timer)
-        return timer
-
-    def destroy_timer(self, timer: Any) -> None:
-        timer.cancel()
-        self.timers.remove(timer)
-
-    def update(self) -> None:
-        now = self.sm.now()
-        for timer in list(self.timers):
-            if not timer.cancelled and now >= timer.next_s:
-                timer.next_s += timer.period_s
-                timer.callback()
+#: ClRos2Timer whose timers fire on the machine's polls: the stand-in smacc_py ships for users' tests.
+ScriptedClRos2Timer = ManualClRos2Timer
 
 
 class ScriptedClKeyboard(ClKeyboard):
