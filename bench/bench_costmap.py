@@ -9,6 +9,13 @@
 * global incremental: the same map, one 360-beam scan into the obstacle layer; only the touched
   window (plus two inflation radii) is recomputed.
 
+* warehouse (issue 44): a 1700 x 1000 map at 3 cm (the size of bench_large_world's office), static +
+  obstacle + inflation, one 1 Hz global update holding six queued 360-beam TB4 scans (12 m, 30 % no
+  return) from a robot standing still: the steady state between goals, where the obstacle layer now
+  reports only the cells that changed. Publishing it: the OccupancyGrid values of the whole grid as
+  before issue 44 (grid.occupancy_from_cost), by Nav2's table (publish.occupancy_of), and by the table
+  on a 3 m window (a costmap_updates message), in the same run.
+
 Inflation and ray clearing run compiled (inflation_jit, raytrace_jit), as the costmap nodes run them;
 the global updates are also timed with the numpy reference inflation (inflation_layer.inflate), and the
 local one with the numpy reference ray clearing (raytrace.clear_rays), in the same run, and the ratios
@@ -35,8 +42,11 @@ from nav_stack.core.costmap import (
     raytrace,
 )
 from nav_stack.core.costmap.inflation_layer import Inflate, inflate
+from nav_stack.core.costmap.layer import Window
+from nav_stack.core.costmap.params import InflationLayerParams
+from nav_stack.core.costmap.publish import occupancy_of
 from nav_stack.core.costmap.raytrace import ClearRays
-from nav_stack.core.grid import GridSpec
+from nav_stack.core.grid import GridSpec, occupancy_from_cost
 
 
 def random_map(size: int, boxes: int, seed: int) -> tuple[np.ndarray, GridSpec]:
@@ -117,9 +127,55 @@ def global_costmap(bench: Benchmark, inflation: Inflate | None, suffix: str = ""
     return full.median, inc.median
 
 
+def warehouse(bench: Benchmark) -> None:
+    """The warehouse-sized global costmap's update and publication costs (see the module doc)."""
+    occ, _ = random_map(1700, 2000, seed=1)
+    occ = np.ascontiguousarray(occ[:1000, :])
+    spec = GridSpec(1700, 1000, 0.03)
+    params = CostmapParams(resolution=0.03, robot_radius=0.175)
+    obstacle = ObstacleLayer(params)
+    costmap = LayeredCostmap(params, [StaticLayer(params), obstacle,
+                                      InflationLayer(InflationLayerParams(inflation_radius=0.7))])
+    costmap.set_map(occ, spec)
+    pose = (25.0, 15.0, 0.0)
+    costmap.update(pose)
+    rng = np.random.default_rng(3)
+    scans = []
+    for _ in range(6):
+        ranges = rng.uniform(0.5, 12.0, 360)
+        ranges[rng.random(360) < 0.3] = np.inf
+        scans.append(LaserScan(ranges, 0.0, 2 * math.pi / 360, 0.15, 12.0))
+
+    def one_update() -> None:
+        for scan in scans:
+            obstacle.add_scan(scan, pose)
+        costmap.update(pose)
+
+    stats = bench.time("warehouse global update", one_update, repeat=30, warmup=2)
+    bench.record("warehouse 1700x1000 at 3 cm: global update with 6 queued TB4 scans, robot standing", stats,
+                 "ms", 1e3, load_note())
+    costs = costmap.costs
+    window = Window(750, 400, 950, 600)  # 6 m x 6 m: one scan's clearing range of 3 m around the robot
+    timings = {
+        "whole grid, per-cell arithmetic (before issue 44)": lambda: occupancy_from_cost(costs),
+        "whole grid, translation table": lambda: occupancy_of(costs),
+        "6x6 m window, translation table": lambda: occupancy_of(costs[window.slices]),
+    }
+    medians = {}
+    for label, convert in timings.items():
+        result = bench.time(f"occupancy values, {label}", convert, repeat=30, warmup=2)
+        bench.record(f"warehouse 1700x1000: OccupancyGrid values of the {label}", result, "ms", 1e3,
+                     load_note())
+        medians[label] = result.median
+    first, second, _ = timings
+    bench.record_value("warehouse 1700x1000: OccupancyGrid values, arithmetic / table (whole grid, medians)",
+                       medians[first] / medians[second], "x", "same grid, same run")
+
+
 def main() -> None:
     parse_cli(__doc__)
     bench = Benchmark("costmap")
+    warehouse(bench)
     local_fast = local_costmap(bench, None)
     local_ref = local_costmap(bench, raytrace.clear_rays, ", numpy reference ray clearing")
     bench.record_value("local costmap update per scan: reference / compiled ray clearing (medians)",

@@ -13,6 +13,9 @@ need; the shipped files keep Nav2's Dijkstra). Each goal is a free cell (>= 0.4 
 Recorded: success rate, collisions, the planner server's budget warnings ("planning took ... more
 than the ... of expected_planner_frequency", counted in the stack's logs: the target is none), the
 sustained real-time factor and the map's size. Targets (issue 19): every goal reached, 0 warnings.
+Also (issue 44) the CPU seconds per sim second of each process of the stack (sim2d, the nav2 process,
+the launcher...) over the goals, sampled from /proc as bench.bench_cpu does, so a change shows which
+process it relieved.
 
     .venv/bin/python -m bench.bench_large_world [--goals 5] [--width 45] [--height 30]
                                                 [--resolution 0.03] [--min-distance 20] [--robot tb4]
@@ -25,11 +28,13 @@ import argparse
 import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
 import yaml
 
+from bench.bench_cpu import POLL_S, Sampler, process_name
 from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
 from bench.nav_session import MIN_CLEARANCE, REPO, GoalRecord, Stack, free_poses, ideal_speed, run_goals
 
@@ -51,6 +56,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--search", default="astar", choices=("astar", "dijkstra"),
                         help="GridBased's search (default astar: the shipped files keep Nav2's Dijkstra)")
     parser.add_argument("--seed", type=int, default=3, help="draws the office and the goals")
+    parser.add_argument("--incremental-costmaps", action="store_true",
+                        help="always_send_full_costmap false in both costmaps (the shipped files keep "
+                             "the Jazzy yaml's true): full grids once, then costmap_updates (issue 44)")
     parser.add_argument("--note", default="", help="appended to every recorded row's note")
     parser.add_argument("--no-record", action="store_true")
     return parser
@@ -72,11 +80,16 @@ def generate(args: argparse.Namespace) -> tuple[Path, Path]:
     return world, map_path
 
 
-def planner_params(robot_params: Path, astar: bool) -> Path:
-    """The robot's parameter file with GridBased's ``use_astar`` set, written under OUT."""
+def planner_params(robot_params: Path, astar: bool, incremental_costmaps: bool = False) -> Path:
+    """The robot's parameter file with GridBased's ``use_astar`` set (and ``always_send_full_costmap``
+    false in both costmaps with ``incremental_costmaps``), written under OUT."""
     doc = yaml.safe_load(robot_params.read_text())
     doc["planner_server"]["ros__parameters"]["GridBased"]["use_astar"] = astar
-    path = OUT / f"{robot_params.stem}_{'astar' if astar else 'dijkstra'}.yaml"
+    if incremental_costmaps:
+        for name in ("global_costmap", "local_costmap"):
+            doc[name][name]["ros__parameters"]["always_send_full_costmap"] = False
+    suffix = "_incremental" if incremental_costmaps else ""
+    path = OUT / f"{robot_params.stem}_{'astar' if astar else 'dijkstra'}{suffix}.yaml"
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
     return path
 
@@ -101,6 +114,21 @@ def budget_warnings(log_dir: Path) -> list[str]:
             for line in log.read_text(errors="replace").splitlines() if BUDGET_WARNING in line]
 
 
+def _sample_until(sampler: Sampler, stop: threading.Event) -> None:
+    while not stop.wait(POLL_S):
+        sampler.sample()
+
+
+def cpu_per_process(sampler: Sampler) -> dict[str, float]:
+    """CPU seconds each named process used between the snapshots "start" and "end" (summed by name)."""
+    used: dict[str, float] = {}
+    start, end = sampler.snapshots["start"], sampler.snapshots["end"]
+    for pid, cpu in end.items():
+        name = process_name(sampler.last[pid][0])
+        used[name] = used.get(name, 0.0) + cpu - start.get(pid, 0.0)
+    return used
+
+
 def main() -> int:
     from nav_stack.ros.robot_params import params_for_robot
     from nav_stack.ros.world_defaults import world_defaults
@@ -114,7 +142,7 @@ def main() -> int:
     cells = _cells(map_path)
     print(f"large_world: {world.name}, map {cells / 1e6:.2f} M cells at {args.resolution} m; "
           f"ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}; code {version}", flush=True)
-    params = planner_params(params_for_robot(args.robot), args.search == "astar")
+    params = planner_params(params_for_robot(args.robot), args.search == "astar", args.incremental_costmaps)
     log_dir = OUT / "logs"
     for old in log_dir.glob("*.log"):
         old.unlink()
@@ -123,20 +151,31 @@ def main() -> int:
     start = world_defaults(str(world)).spawn[:2]
     bench = Benchmark("large_world")
     extra = ("--map", str(map_path), "--log-dir", str(log_dir))
+    stop = threading.Event()
     with Stack(str(world), args.robot, params, "max", True, "bench_large_world", extra) as stack:
+        assert stack.process is not None
+        sampler = Sampler(stack.process.pid)
+        threading.Thread(target=_sample_until, args=(sampler, stop), daemon=True).start()
+        sampler.snapshot("start")
         run = run_goals(stack.driver, candidates, rng, start, args.goals, ideal_speed(params, args.robot),
                         lambda record: _print_goal(record, args.goals), min_distance=args.min_distance)
+        sampler.snapshot("end")
+        stop.set()
     warnings = budget_warnings(log_dir)
     for line in warnings[:10]:
         print(f"large_world: {line}", flush=True)
     note = (f"{world.stem} ({cells / 1e6:.2f} M cells at {args.resolution} m), {args.robot}, {args.search}, "
-            f"{len(run.records)}/{args.goals} goals >= {args.min_distance:g} m apart, seed {args.seed}, "
+            + ("always_send_full_costmap false, " if args.incremental_costmaps else "")
+            + f"{len(run.records)}/{args.goals} goals >= {args.min_distance:g} m apart, seed {args.seed}, "
             f"rtf max, lockstep, {version_note(version)}" + (f"; {args.note}" if args.note else ""))
     bench.record_value("goals reached", 100.0 * len(run.succeeded) / max(len(run.records), 1), "%", note)
     bench.record_value("collisions", float(run.collisions), "count", note)
     bench.record_value("planner budget warnings", float(len(warnings)), "count", note)
     bench.record_value("sustained real-time factor", run.sim_s / run.wall_s, "x",
                        f"{note}; {run.sim_s:.0f} sim s in {run.wall_s:.0f} wall s")
+    for name, cpu in sorted(cpu_per_process(sampler).items()):
+        bench.record_value(f"CPU s per sim s: {name}", cpu / max(run.sim_s, 1e-9), "s/s",
+                           f"{note}; over the goals")
     if not args.no_record:
         bench.save()
     return 0 if len(run.succeeded) == len(run.records) and not warnings else 1

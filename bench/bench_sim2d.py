@@ -2,21 +2,35 @@
 
 Core: one physics step (waffle driving an arc in turtlebot3_world), one 360-beam scan, and one
 simulated second with the default schedule (200 physics steps + 5 scans), reported as a
-real-time factor. Node: ``python -m sim2d.ros.cli --rtf max`` in a child process publishing
-everything over DDS; this process reads ``sim2d/real_time_factor`` (achieved, per wall second),
-first with no other subscriber, then while subscribing to /scan, /odom, /tf and /clock.
+real-time factor. Large worlds (issue 44): one TB4 scan (360 beams, 12 m) from random free poses of
+depot_large and of a generated 45 x 30 m office (the warehouse of bench_large_world, seed 3), cast by
+the compiled caster (lidar_jit, what the simulator runs) and by the numpy reference (lidar.cast_rays)
+in the same run, and the ratio of their medians. Node: ``python -m sim2d.ros.cli --rtf max`` in a
+child process publishing everything over DDS; this process reads ``sim2d/real_time_factor``
+(achieved, per wall second), first with no other subscriber, then while subscribing to /scan, /odom,
+/tf and /clock.
 
 Run: .venv/bin/python -m bench.bench_sim2d [--no-record]
 """
 
 from __future__ import annotations
 
+import itertools
+import math
 import os
 import statistics
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
+import yaml
 
 from bench.harness import Benchmark, parse_cli
+from sim2d.core.geometry import StaticGeometry
+from sim2d.core.lidar import RPLIDAR_A1, Caster, cast_rays
+from sim2d.core.lidar_jit import BinnedCaster
+from sim2d.core.office_world import generate_office
 from sim2d.core.robot import WAFFLE
 from sim2d.core.simulator import SimParams, Simulator
 from sim2d.core.world import load_world
@@ -44,6 +58,48 @@ def bench_core(bench: Benchmark) -> None:
 
     second = bench.time("1 s of sim time (core)", one_sim_second, repeat=20, warmup=2)
     bench.record_value("core real-time factor (physics + 5 Hz lidar)", 1.0 / second.median, "x")
+
+
+def _office_geometry() -> StaticGeometry:
+    """The 45 x 30 m office of bench_large_world (seed 3), loaded as the simulator loads it."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "office_45x30_seed3.yaml"
+        path.write_text(yaml.safe_dump(generate_office(45.0, 30.0, 3).world("office_45x30_seed3")))
+        return load_world(path).geometry
+
+
+def _scan_timer(caster: Caster, geometry: StaticGeometry, poses: list[np.ndarray]) -> Callable[[], None]:
+    """One TB4 scan per call, from the next of ``poses`` in turn."""
+    angles = np.linspace(0.0, 2.0 * math.pi, RPLIDAR_A1.beams, endpoint=False) + 0.1
+    reach = RPLIDAR_A1.range_max + 4.0 * RPLIDAR_A1.noise_stddev
+    turn = itertools.cycle(poses)
+
+    def one_scan() -> None:
+        x, y = next(turn)
+        caster((float(x), float(y)), angles, geometry, reach)
+
+    return one_scan
+
+
+def bench_large_world_lidar(bench: Benchmark) -> None:
+    """Compiled vs reference casting of a TB4 scan on the two large worlds (see the module doc)."""
+    worlds = (("depot_large", load_world("depot_large").geometry), ("office 45x30", _office_geometry()))
+    for name, geometry in worlds:
+        rng = np.random.default_rng(1)
+        low, high = geometry.ray_segments[:, :2].min(axis=0), geometry.ray_segments[:, :2].max(axis=0)
+        poses = [p for p in rng.uniform(low, high, size=(200, 2)) if not geometry.contains(p[None])[0]][:50]
+        medians = {}
+        compiled: Caster = BinnedCaster()
+        for label, caster in (("compiled", compiled), ("numpy reference", cast_rays)):
+            stats = bench.time(f"{name} lidar scan ({label})", _scan_timer(caster, geometry, poses),
+                               repeat=300, warmup=5)
+            note = (f"{len(geometry.ray_segments)} segments, {len(poses)} free poses, "
+                    f"load {os.getloadavg()[0]:.1f}")
+            bench.record(f"lidar scan, TB4 360 beams 12 m, {name} ({label})", stats, "µs", scale=1e6,
+                         note=note)
+            medians[label] = stats.median
+        bench.record_value(f"lidar scan, {name}: numpy reference / compiled (medians)",
+                           medians["numpy reference"] / medians["compiled"], "x", "same poses, same run")
 
 
 def bench_node(bench: Benchmark, listeners: bool, samples: int = 8) -> None:
@@ -94,6 +150,7 @@ def main() -> None:
     parse_cli(__doc__)
     bench = Benchmark("sim2d")
     bench_core(bench)
+    bench_large_world_lidar(bench)
     bench_node(bench, listeners=False)
     bench_node(bench, listeners=True)
     bench.save()

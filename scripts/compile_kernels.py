@@ -19,6 +19,7 @@ from nav_stack.core.control.mppi import kernels_jit as mppi_kernels_jit
 from nav_stack.core.costmap import inflation_jit, raytrace_jit
 from nav_stack.core.planning import grid_search_jit, theta_star_jit
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
+from sim2d.core import lidar_jit
 
 KERNELS = {  # the slowest first, so that it starts at once in a pool
     "SLAM pose-graph solve": pose_graph_jit.warm_up,
@@ -28,6 +29,7 @@ KERNELS = {  # the slowest first, so that it starts at once in a pool
     "costmap inflation": inflation_jit.warm_up,
     "costmap ray clearing": raytrace_jit.warm_up,
     "SLAM map update": integrate_jit.warm_up,
+    "sim2d lidar (binned ray casting)": lidar_jit.warm_up,
 }
 
 

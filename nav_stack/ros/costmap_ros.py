@@ -13,8 +13,11 @@ sim s under use_sim_time, so a busy machine never drops it) and is retried each 
 follow REP 117: -inf (closer than range_min) and NaN are dropped, +inf ("no return") clears up to
 the raytrace range when ``inf_is_valid`` (our yaml enables it).
 
-Out: ``costmap`` (OccupancyGrid), ``costmap_raw`` (nav2_msgs/Costmap), ``published_footprint``
-(PolygonStamped), all reliable transient local depth 1, at ``publish_frequency``; services
+Out, at ``publish_frequency``, as Nav2's Costmap2DPublisher (nav_stack.ros.costmap_publisher): the full
+``costmap`` (OccupancyGrid) and ``costmap_raw`` (nav2_msgs/Costmap) on activation, to a new subscriber,
+on resize or a rolling window's move (every cycle with ``always_send_full_costmap``), otherwise
+``costmap_updates`` / ``costmap_raw_updates`` with the redrawn window only, each only when subscribed;
+``published_footprint`` (PolygonStamped); all reliable transient local depth 1; services
 ``clear_entirely_<name>`` and ``get_costmap``. ``<layer>.enabled`` may be set at run time (Nav2's
 dynamic parameters; SMACC2's CpCostmapSwitch does): the layer stops or resumes contributing and the
 whole grid is redrawn at the next update. Relative topic names resolve against the owner's
@@ -28,7 +31,6 @@ from collections import deque
 
 import numpy as np
 from geometry_msgs.msg import Point32, PolygonStamped
-from nav2_msgs.msg import Costmap
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap
 from nav_msgs.msg import OccupancyGrid
 from rcl_interfaces.msg import SetParametersResult
@@ -46,9 +48,10 @@ from nav_stack.core.costmap import (
     ObstacleLayer,
     StaticLayer,
 )
-from nav_stack.core.grid import GridSpec, occupancy_from_cost
-from nav_stack.ros.conversions import costmap_msg, grid_from_occupancy, occupancy_msg
+from nav_stack.core.grid import GridSpec
+from nav_stack.ros.conversions import costmap_msg, grid_from_occupancy
 from nav_stack.ros.costmap_params import build_layers, declare_costmap_params
+from nav_stack.ros.costmap_publisher import CostmapPublisher
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
@@ -95,10 +98,9 @@ class CostmapROS(NavLifecycleNode):
         self.params = declare_costmap_params(self, self._defaults)
         self.costmap = LayeredCostmap(self.params, build_layers(self, self.params))
         self.frames = Frames(self, self.params.robot_base_frame)
-        self._pub_grid = self.create_publisher(OccupancyGrid, "costmap", LATCHED)
-        self._pub_raw = self.create_publisher(Costmap, "costmap_raw", LATCHED)
+        self._grid_publisher = CostmapPublisher(self, self.global_frame, self.params.always_send_full_costmap)
         self._pub_footprint = self.create_publisher(PolygonStamped, "published_footprint", LATCHED)
-        self._entities = [self._pub_grid, self._pub_raw, self._pub_footprint]
+        self._entities = [*self._grid_publisher.publishers, self._pub_footprint]
         for layer in self.costmap.layers:
             if isinstance(layer, StaticLayer):
                 qos = LATCHED if layer.params.map_subscribe_transient_local else DEFAULT
@@ -133,6 +135,7 @@ class CostmapROS(NavLifecycleNode):
 
     def activate(self) -> None:
         p = self.params
+        self._grid_publisher.reset()  # the full grid first, as at every activation
         self._layer_timers = [
             create_periodic_timer(self, 1.0 / p.update_frequency, self._update),
             create_periodic_timer(self, 1.0 / p.publish_frequency, self._publish),
@@ -263,20 +266,22 @@ class CostmapROS(NavLifecycleNode):
             if not self.costmap.is_sized:
                 self.get_logger().info("waiting for the map", throttle_duration_sec=5.0)
                 return
-            self.costmap.update(pose)
+            self._grid_publisher.add_window(self.costmap.update(pose))
             if self._scan_since_clear:
                 self._cleared = False
         if not self.ready.done():
             self.ready.set_result(True)
 
     def _publish(self) -> None:
-        snap = self.snapshot()
-        if snap is None or self.costmap is None or self.frames is None:
+        """Send the grid (whole or the redrawn window, see CostmapPublisher) and the footprint."""
+        if self.costmap is None or self.frames is None:
             return
-        costs, spec = snap
+        with self._lock:
+            if not self.costmap.is_sized or not self.ready.done():
+                return
+            messages = self._grid_publisher.prepare(self.costmap.costs, self.costmap.spec)
+        self._grid_publisher.send(messages)
         stamp = self.get_clock().now().to_msg()
-        self._pub_grid.publish(occupancy_msg(occupancy_from_cost(costs), spec, self.global_frame, stamp))
-        self._pub_raw.publish(costmap_msg(costs, spec, self.global_frame, stamp))
         try:
             pose = self.frames.robot_pose(self.global_frame)
         except FrameError:

@@ -4,13 +4,16 @@ Each robot model carries its sensor's figures (LDS_01, RPLIDAR_A1 below); LidarP
 the LDS-01's. Output follows REP 117: +inf for no return within range_max (also for a dropped
 beam), -inf for a return closer than range_min.
 
-Why numpy: every beam is intersected with every nearby segment and circle at once, so a scan is
-a handful of array operations, never a Python loop over beams or cells.
+:func:`cast_rays` is the reference caster: every beam is intersected with every nearby segment and
+circle at once, a handful of array operations. A :class:`Lidar` casts with lidar_jit.BinnedCaster
+unless given another caster: the same ranges (tests/unit/sim2d/test_lidar_jit.py), each beam testing
+only the items near its path, which is what keeps scans cheap on warehouse-sized worlds (issue 44).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,6 +77,11 @@ RPLIDAR_A1 = LidarParams(beams=360, angle_min=0.0, range_min=0.15, range_max=12.
                          noise_stddev=0.01)
 
 
+#: (sensor origin (m), beam angles (rad, map frame), geometry, max range (m)) -> ranges (m), +inf for none:
+#: :func:`cast_rays` or lidar_jit.BinnedCaster()
+Caster = Callable[[tuple[float, float], FloatArray, StaticGeometry, float], FloatArray]
+
+
 def cast_rays(origin: tuple[float, float], angles: FloatArray, geometry: StaticGeometry,
               max_range: float) -> FloatArray:
     """Distance (B,) (m) along each ray from ``origin`` to the first obstacle, +inf beyond ``max_range``.
@@ -127,7 +135,18 @@ def _segments_near(seg: FloatArray, ox: float, oy: float, max_range: float) -> B
 class Lidar:
     """Produces noisy REP 117 scans from a sensor pose; the noise comes from the injected generator."""
 
-    def __init__(self, params: LidarParams, geometry: StaticGeometry, rng: np.random.Generator) -> None:
+    def __init__(self, params: LidarParams, geometry: StaticGeometry, rng: np.random.Generator,
+                 caster: Caster | None = None) -> None:
+        """``caster``: None for the compiled lidar_jit.BinnedCaster, or :func:`cast_rays`, the reference.
+
+        numba is imported here, not with the module: tools that only read LidarParams stay light.
+        """
+        if caster is None:
+            from sim2d.core import lidar_jit
+
+            lidar_jit.warm_up()  # compile or load it now, not in the first scan
+            caster = lidar_jit.BinnedCaster()
+        self._cast = caster
         self.params = params
         self.geometry = geometry
         self.rng = rng
@@ -137,7 +156,7 @@ class Lidar:
     def scan(self, x: float, y: float, yaw: float) -> FloatArray:
         """Ranges (beams,) (m) from a sensor at (x, y) facing ``yaw`` (rad), map frame."""
         p = self.params
-        true = cast_rays((x, y), self._beam_angles + yaw, self.geometry, p.range_max + 4.0 * p.noise_stddev)
+        true = self._cast((x, y), self._beam_angles + yaw, self.geometry, p.range_max + 4.0 * p.noise_stddev)
         measured = true + self.rng.normal(0.0, p.noise_stddev, p.beams) if p.noise_stddev > 0 else true.copy()
         measured[measured > p.range_max] = np.inf
         measured[measured < p.range_min] = -np.inf

@@ -8,6 +8,11 @@ or NaN are dropped; +inf clears up to ``range_max`` only when ``inf_is_valid``. 
 ``footprint_clearing_enabled`` the cells under the robot are set free. The layer keeps its own
 grid (unknown until seen when ``track_unknown_space``) and merges it into the master by maximum
 (``combination_method`` 1) or by overwriting with known cells (0).
+
+The bounds it reports cover only the cells whose value its marking, clearing or footprint clearing
+changed (Nav2 reports every cell a beam crossed): a robot among known surroundings then redraws,
+inflates and publishes almost nothing, which is what keeps a warehouse-sized global costmap cheap
+(issue 44). Clearing walks the beams in a compiled loop (raytrace_jit); marking is one numpy pass.
 """
 
 from __future__ import annotations
@@ -22,6 +27,19 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.costmap.params import CostmapParams, ObstacleLayerParams
 from nav_stack.core.costmap.raytrace import ClearRays
 from nav_stack.core.grid import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
+
+
+def _net_change(before: CostArray, after: CostArray, touched: Window) -> Window:
+    """The smallest window of the cells inside ``touched`` whose value differs between the grids.
+
+    Why not ``touched`` itself: a scan's clearing frees cells that its own marking then marks again
+    (a beam passing through its neighbour's return), so a scan repeating the last one touches a ring
+    of cells and changes none.
+    """
+    if touched.is_empty:
+        return touched
+    rows, cols = np.nonzero(before[touched.slices] != after[touched.slices])
+    return Window.around(cols + touched.x0, rows + touched.y0)
 
 
 @dataclass(frozen=True)
@@ -105,8 +123,10 @@ class ObstacleLayer(Layer):
                 wy = obs.sensor_pose[1] + lengths[mark] * np.sin(angles[mark])
                 mx, my = spec.world_to_cell(wx, wy)
                 inside = spec.in_bounds(mx, my)
-                grid[my[inside], mx[inside]] = LETHAL_OBSTACLE
-                changed = changed.union(Window.around(mx[inside], my[inside]))
+                mx, my = mx[inside], my[inside]
+                new = grid[my, mx] != LETHAL_OBSTACLE
+                grid[my, mx] = LETHAL_OBSTACLE
+                changed = changed.union(Window.around(mx[new], my[new]))
         self._queue.clear()
         return changed
 
@@ -114,12 +134,14 @@ class ObstacleLayer(Layer):
         if self._spec is None or not self.enabled:
             self._queue.clear()
             return bounds
-        changed = self._process()
+        before = self.grid.copy()  # 1.7 MB for a warehouse map at 3 cm: well under a millisecond
+        touched = self._process()
         if self.params.footprint_clearing_enabled and self._footprint is not None:
             my, mx = self._footprint.cells_at(self._spec, *robot_pose)
+            new = self.grid[my, mx] != FREE_SPACE
             self.grid[my, mx] = FREE_SPACE
-            changed = changed.union(Window.around(mx, my))
-        return bounds.union(changed.clipped(self._spec))
+            touched = touched.union(Window.around(mx[new], my[new]))
+        return bounds.union(_net_change(before, self.grid, touched.clipped(self._spec)))
 
     def update_costs(self, master: CostArray, window: Window) -> None:
         if self._grid is None or not self.enabled:

@@ -54,6 +54,8 @@ class CostmapParams:
     robot_radius: float = 0.22
     footprint: tuple[Point2, ...] = ()
     footprint_padding: float = 0.01
+    # True: the whole grid every publish cycle (the Jazzy yaml's value; Nav2's C++ default is false);
+    # false: the whole grid once, then costmap_updates / costmap_raw_updates (nav_stack.ros.costmap_publisher)
     always_send_full_costmap: bool = True
 
     def __post_init__(self) -> None:

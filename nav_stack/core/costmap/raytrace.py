@@ -17,7 +17,7 @@ from nav_stack.core.costmap.layer import CostArray, Window
 from nav_stack.core.grid import FloatArray, GridSpec, IntArray
 
 #: (grid, its spec, sensor origin (m), ray lengths (m), ray angles (rad), min length (m), cost to set)
-#: -> the window of cells set, with the origin's cell: :func:`clear_rays` or raytrace_jit.clear_rays
+#: -> the window of the cells it changed: :func:`clear_rays` or raytrace_jit.clear_rays
 ClearRays = Callable[[CostArray, GridSpec, tuple[float, float], FloatArray, FloatArray, float, int], Window]
 
 
@@ -65,8 +65,13 @@ def trace_cells(
 def clear_rays(grid: CostArray, spec: GridSpec, origin: tuple[float, float], lengths: FloatArray,
                angles: FloatArray, min_length: float, value: int) -> Window:
     """Set the cells :func:`trace_cells` gives (end cells left out) to ``value`` in ``grid``; the
-    smallest window holding them and the origin's cell. The numpy reference of raytrace_jit.clear_rays."""
+    smallest window holding the cells whose value changed (empty when none did).
+
+    Why only the changed cells: a robot standing among known free space clears the same cells scan
+    after scan; reporting them would redraw, reinflate and republish a 6 m square each update for
+    nothing. The master grid is a function of the layers' cells, so unchanged cells need no redraw.
+    The numpy reference of raytrace_jit.clear_rays."""
     mx, my = trace_cells(spec, origin, lengths, angles, min_length)
+    changed = grid[my, mx] != value
     grid[my, mx] = value
-    ox, oy = spec.world_to_cell(origin[0], origin[1])
-    return Window.around(np.append(mx, ox), np.append(my, oy))
+    return Window.around(mx[changed], my[changed])

@@ -4,7 +4,7 @@ Why: raytrace.trace_cells builds (beams x steps) float and index arrays for a wh
 360 x 120 cells for a 3 m clearing range at 5 cm, several temporaries each, before one fancy-index
 write. Clearing a scan that way was a fifth of the nav2 process's CPU with the robot standing still
 (py-spy, idle stack at ``--rtf max``, 2026-11-28), and two costmaps clear every scan. Here each beam is
-walked cell by cell into the grid, and the touched window is kept as four integers.
+walked cell by cell into the grid, and the window of the cells it changed is kept as four integers.
 
 The rules are trace_cells', in the same float64 arithmetic, so the grid and the window are identical
 (tests/unit/nav_stack/test_costmap_jit.py checks it on random rays): a ray from the sensor to its end
@@ -48,35 +48,39 @@ def ray_sample(ox: float, oy: float, dx: float, dy: float, k: int, steps: int) -
 def _clear(grid: CostArray, ox: float, oy: float, ex: FloatArray, ey: FloatArray, lengths: FloatArray,
            min_length: float, value: int, box: npt.NDArray[np.int64]) -> None:
     """Set the cells of every ray (see the module doc) to ``value``; widen ``box`` (x0, y0, x1, y1,
-    end-exclusive) to hold each cell set."""
+    end-exclusive) to hold each cell whose value this changed. The box lives in locals while the rays
+    are walked (in the array, its four writes per cell halved the kernel's speed)."""
     height, width = grid.shape
+    bx0, by0, bx1, by1 = box[0], box[1], box[2], box[3]
     for i in range(len(ex)):
         dx, dy = ex[i] - ox, ey[i] - oy
         steps = ray_steps(dx, dy)
         end_x, end_y = math.floor(ex[i]), math.floor(ey[i])
+        length = lengths[i]
         for k in range(steps + 1):
             t, px, py = ray_sample(ox, oy, dx, dy, k, steps)
-            if t * lengths[i] < min_length or (px == end_x and py == end_y):
+            if t * length < min_length or (px == end_x and py == end_y):
                 continue
-            if px < 0 or px >= width or py < 0 or py >= height:
+            if px < 0 or px >= width or py < 0 or py >= height or grid[py, px] == value:
                 continue
             grid[py, px] = value
-            box[0], box[1] = min(box[0], px), min(box[1], py)
-            box[2], box[3] = max(box[2], px + 1), max(box[3], py + 1)
+            bx0, by0 = min(bx0, px), min(by0, py)
+            bx1, by1 = max(bx1, px + 1), max(by1, py + 1)
+    box[0], box[1], box[2], box[3] = bx0, by0, bx1, by1
 
 
 def clear_rays(grid: CostArray, spec: GridSpec, origin: tuple[float, float], lengths: FloatArray,
                angles: FloatArray, min_length: float, value: int) -> Window:
     """Set to ``value`` the cells of ``grid`` (of ``spec``) that trace_cells gives for these rays
     (``lengths`` m, ``angles`` rad in the grid's frame, from ``origin`` m); the smallest window
-    holding those cells and the origin's cell (which may lie off the grid)."""
+    holding the cells whose value changed (empty when none did)."""
     ox, oy = grid_coords(spec, np.array(origin[0]), np.array(origin[1]))
     ex, ey = grid_coords(spec, origin[0] + lengths * np.cos(angles), origin[1] + lengths * np.sin(angles))
-    cx, cy = math.floor(ox), math.floor(oy)
-    box = np.array([cx, cy, cx + 1, cy + 1], dtype=np.int64)
+    box = np.array([spec.width, spec.height, 0, 0], dtype=np.int64)  # empty until a cell changes
     _clear(grid, float(ox), float(oy), ex, ey, np.asarray(lengths, dtype=np.float64), float(min_length),
            value, box)
-    return Window(*(int(v) for v in box))
+    window = Window(*(int(v) for v in box))
+    return window if not window.is_empty else Window.empty()
 
 
 def warm_up() -> None:

@@ -146,4 +146,6 @@ def test_ray_clearing_frees_the_beam_but_not_its_return_nor_the_minimum_range() 
                                      1.5, FREE_SPACE)
     assert np.flatnonzero(grid[2] == FREE_SPACE).tolist() == [3, 4, 5]  # 2: under 1.5 m; 6: the return
     assert (grid[[0, 1, 3, 4]] == 100).all()
-    assert (window.x0, window.y0, window.x1, window.y1) == (1, 2, 6, 3)  # the sensor's cell included
+    assert (window.x0, window.y0, window.x1, window.y1) == (3, 2, 6, 3)  # the cells it changed
+    assert raytrace_jit.clear_rays(grid, GridSpec(8, 5, 1.0), (1.5, 2.5), np.array([5.0]), np.array([0.0]),
+                                   1.5, FREE_SPACE).is_empty  # all free already: nothing changed
