@@ -32,6 +32,7 @@ from ros_tools.bag.qos import parse_offered_qos, playback_profile
 from ros_tools.bag.reader import BagError, BagReader
 from ros_tools.bag.recorder import full_topic_name, spin_for
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import StopOnSignal
 from ros_tools.status_line import StatusLine
 from ros_tools.types import import_type
 
@@ -167,6 +168,16 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
         BagError: unreadable file, unknown topic, or a type that is not installed.
     """
     status = status or StatusLine()
+    # Ctrl-C and SIGTERM only raise a flag, checked between spins: a KeyboardInterrupt raised inside the
+    # EventsExecutor's spin left callbacks in its C++ callback manager, whose destructor then aborted the
+    # process ("Destroying callback manager with callbacks remaining", exit -6, CI 2026-11-29).
+    stop = StopOnSignal()
+
+    def wait(seconds: float) -> None:
+        spin_for(executor, seconds)
+        if stop.requested:
+            raise KeyboardInterrupt
+
     with BagReader(options.bag) as reader:
         context = rclpy.Context()
         rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
@@ -174,13 +185,13 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
         executor = make_executor(options.executor, context)
         executor.add_node(node)
         try:
-            player = Player(node, reader, options, lambda seconds: spin_for(executor, seconds))
+            player = Player(node, reader, options, wait)
             lonely = player.wait_for_subscribers() if options.wait_for_subscribers > 0 else []
             if lonely:
                 status.finish(f"warning: no subscriber on {', '.join(lonely)}; playing anyway")
             end = time.monotonic() + options.delay
             while (left := end - time.monotonic()) > 0:
-                spin_for(executor, left)
+                wait(left)
             duration = reader.duration_ns / 1e9
 
             def progress(p: Player) -> None:
@@ -199,5 +210,6 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
             node.destroy_node()
             if context.ok():
                 rclpy.shutdown(context=context)
+            stop.restore()
     status.finish(f"played {player.published} messages from {options.bag}")
     return player.published
