@@ -23,6 +23,8 @@ publishes nothing when the input falls silent. Run-time ``<polygon>.enabled`` an
 from __future__ import annotations
 
 import dataclasses
+import math
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -70,6 +72,10 @@ class CollisionMonitorNode(NavLifecycleNode):
         super().__init__(NODE_NAME, **kwargs)
         self._active = False
         self._invalid = ""  # "<source>: <why>" of the source that made the last command stop
+        #: (source, reason kind) and steady s of the last invalid-source warning: a new fault is said at
+        #: once, the same one again only every WARN_PERIOD (rclpy's per-call-site throttle hid a stale
+        #: scan for 5 s when "no data yet" had just been logged)
+        self._warned: tuple[tuple[str, str], float] = (("", ""), -math.inf)
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -180,15 +186,24 @@ class CollisionMonitorNode(NavLifecycleNode):
             data = source.points(now) if source.params.enabled else None
             if source.params.enabled and data is None and source.params.source_timeout != 0.0:
                 self._invalid = f"{source.name}: {source.reason}"
-                self.get_logger().warning(f"[{source.name}]: {source.reason}; ignoring the source: the robot "
-                                          "stops", throttle_duration_sec=WARN_PERIOD)
+                self._warn_invalid(source)
                 break
             if data is not None:
                 points[source.name] = data
             shown.append((source.name, data if data is not None else _NO_POINTS))
         if self._marker_pub.get_subscription_count() > 0:
             self._marker_pub.publish(collision_points_marker(self.params.base_frame_id, shown))
+        if not self._invalid:
+            self._warned = (("", ""), -math.inf)   # all valid again: the next fault is news
         return None if self._invalid else points
+
+    def _warn_invalid(self, source: ObservationSource) -> None:
+        """Say why a source is invalid: at once for a new fault, then every WARN_PERIOD (steady s)."""
+        key, now = (source.name, source.reason_kind), time.monotonic()
+        if key == self._warned[0] and now - self._warned[1] < WARN_PERIOD:
+            return
+        self._warned = (key, now)
+        self.get_logger().warning(f"[{source.name}]: {source.reason}; ignoring the source: the robot stops")
 
     # -- outputs -----------------------------------------------------------------------------------
     def _report(self, action: Action) -> None:

@@ -100,6 +100,9 @@ class ObservationSource:
     def __init__(self, node: Node, name: str, params: SourceParams, frames: SourceFrames) -> None:
         self.name, self.params, self.frames = name, params, frames
         self.reason = ""  # why the last points() call had no valid data
+        #: what kind of fault ``reason`` is ("no data", "stale", "transform"): a new kind is worth a
+        #: warning at once, a repeat of the same kind only after the throttle period
+        self.reason_kind = ""
         self._latest: Any = None  # (stamp s, frame, sensor-frame points (N, 3))
         kind = LaserScan if params.type == "scan" else PointCloud2
         self._sub = node.create_subscription(kind, params.topic, self._on_data, SENSOR)
@@ -122,17 +125,19 @@ class ObservationSource:
         """The data as points (N, 2) in the base frame, or None (``reason`` says why) when the source
         never published, its data is older than ``source_timeout``, or TF cannot place it."""
         if self._latest is None:
-            self.reason = f"no data received yet on '{self.params.topic}'"
+            self.reason, self.reason_kind = f"no data received yet on '{self.params.topic}'", "no data"
             return None
         stamp, frame, pts = self._latest
         if not source_valid(stamp, now, self.params.source_timeout):
             self.reason = (f"latest data is {now - stamp:.3f} s old (source_timeout "
                            f"{self.params.source_timeout} s)")
+            self.reason_kind = "stale"
             return None
         try:
             to_base = self.frames.sensor_to_base(frame, stamp, now)
         except TransformError as error:
             self.reason = f"cannot transform '{frame}' to '{self.frames.base_frame}': {error}"
+            self.reason_kind = "transform"
             return None
         in_base = to_base.apply(pts)
         if self.params.type == "scan":

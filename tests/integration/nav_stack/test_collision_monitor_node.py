@@ -42,7 +42,6 @@ from nav_stack.ros.collision_monitor import CollisionMonitorNode, build_nodes
 from nav_stack.ros.collision_monitor_sources import SourceFrames
 from nav_stack.ros.qos import DEFAULT, SENSOR
 from ros_tools.cmd_vel import CMD_VEL_QOS
-from ros_tools.runtime.requests import poll
 from ros_tools.tf import Transform, TransformBuffer, TransformError
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
 from tests.helpers.nav_ros_world import Harness
@@ -96,6 +95,7 @@ class Probe(Node):
         kind = TwistStamped if stamped else Twist
         self.cmd_pub = self.create_publisher(kind, "cmd_vel_smoothed", CMD_VEL_QOS)
         self.outputs: list[Any] = []
+        self.outcomes: list[Any] = []   # the node's monitor outcomes, see count_outcomes
         self.states: list[CollisionMonitorState] = []
         self.polygons: list[PolygonStamped] = []
         self.markers: list[MarkerArray] = []
@@ -145,15 +145,40 @@ class Probe(Node):
         out = self.outputs[k]
         return float((out.twist if self.stamped else out).linear.x)
 
+    def count_outcomes(self, monitor: Any) -> None:
+        """Record each outcome of ``monitor.process`` (one per command the node took), so a step waits
+        exactly for what the node sent rather than a fixed time for a reply that may not come."""
+        process = monitor.process
+
+        def counted(*args: Any, **kwargs: Any) -> Any:
+            outcome = process(*args, **kwargs)
+            self.outcomes.append(outcome)
+            return outcome
+        monitor.process = counted
+
+    def mark(self) -> tuple[int, int, int]:
+        """How many outcomes, outputs and states there are now (for :meth:`settle`)."""
+        return len(self.outcomes), len(self.outputs), len(self.states)
+
+    def settle(self, mark: tuple[int, int, int], commands: int) -> None:
+        """Wait until the node has taken ``commands`` commands since ``mark``, and every output and
+        state message those produced has arrived here."""
+        done, outputs, states = mark
+        wait_until(lambda: len(self.outcomes) >= done + commands, 10.0, "the monitor to take the command",
+                   step=0.001)
+        new = self.outcomes[done:done + commands]
+        published, changed = sum(o.publish for o in new), sum(o.state_changed for o in new)
+        wait_until(lambda: len(self.outputs) >= outputs + published and len(self.states) >= states + changed,
+                   10.0, "the monitor's output and state", step=0.001)
+
     def step_until(self, predicate: Callable[[], bool], what: str, send: Callable[[], None],
                    ticks: int = 100) -> None:
-        """Tick, ``send()`` (sensors and a command), until ``predicate()`` holds after a reply."""
+        """Tick, ``send()`` (sensors and a command), until ``predicate()`` holds after the node took it."""
         for _ in range(ticks):
             self.tick()
-            count = len(self.outputs)
+            mark = self.mark()
             send()
-            # a reply, or none when the monitor is silent after a stop: then the next step
-            poll(lambda: len(self.outputs) > count and predicate(), 1.0, step=0.002)  # noqa: B023
+            self.settle(mark, 1)
             if predicate():
                 return
         raise AssertionError(f"no {what} within {ticks} steps; last outputs "
@@ -171,6 +196,7 @@ def bring_up(context: Any, stamped: bool, params: list[Parameter]) -> tuple[Harn
     probe.clock_pub.publish(Clock(clock=_time(START_NS)))
     wait_until(lambda: server.get_clock().now().nanoseconds == START_NS, 20.0, "the first /clock")
     harness.bring_up(server)
+    probe.count_outcomes(server.monitor)
     wait_until(lambda: probe.cmd_pub.get_subscription_count() > 0
                and all(s.get_publisher_count() > 0 for s in probe.subs), 20.0, "cmd_vel and state discovery")
     return harness, probe, server
@@ -253,11 +279,11 @@ def test_a_scan_obstacle_stops_or_slows_the_command_and_a_clear_path_passes_it(
     # A stopped input: zeros for stop_pub_timeout (1 s) from the first zero, then silence.
     probe.step_until(lambda: probe.vx() == 0.0, "the input's zero",
                      functools.partial(probe.scan_and_command, None, 0.0))
-    first_zero, count = probe.now_ns, len(probe.outputs)
+    first_zero, count, mark = probe.now_ns, len(probe.outputs), probe.mark()
     for _ in range(40):  # 2 s of zero commands
         probe.tick()
         probe.scan_and_command(None, 0.0)
-    wait_until(lambda: probe.server_now() >= probe.now_ns, 10.0, "the last step")
+    probe.settle(mark, 40)
     zeros = len(probe.outputs) - count
     print(f"\n{zeros} zero commands published after the first one (stop_pub_timeout 1 s, 20 Hz input)")
     assert all(probe.vx(k) == 0.0 for k in range(count - len(probe.outputs), 0))
