@@ -7,6 +7,13 @@ launch stops with a clear error and a non-zero exit as soon as a process dies, a
 or SIGTERM) shuts everything down in reverse order without leaving orphans: children get SIGTERM
 from the kernel if the launcher itself is killed (PR_SET_PDEATHSIG).
 
+Respawn (ROS 2 launch's ``Node(respawn=True, respawn_delay=...)``, used by nav2_bringup's
+``use_respawn``): a process whose spec sets ``respawn`` is started again with the same command and
+environment after ``respawn_delay`` s when it exits, instead of ending the launch; its log file goes
+on (appended). One that dies more than ``respawn_max_deaths`` times within ``respawn_window`` s is
+given up with one ERROR line (ros_tools.launch_respawn), and the launch then ends as for any required
+process that died. A restarted process is not waited for (its readiness line is logged when it comes).
+
 A calm console: with ``log_dir`` every process's full output also goes to ``<log_dir>/<name>.log``,
 and ``show`` picks which of its lines reach the console (``show_problems``: warnings and errors
 only). A process that dies then has its last lines printed with the file they came from.
@@ -30,6 +37,7 @@ from pathlib import Path
 from typing import TextIO
 
 from ros_tools.dds import keep_dds_local
+from ros_tools.launch_respawn import RESPAWN_MAX_DEATHS, RESPAWN_WINDOW, Respawn, RespawnTracker
 
 _COLORS = ["\033[36m", "\033[33m", "\033[35m", "\033[32m", "\033[34m", "\033[31m"]
 _RESET = "\033[0m"
@@ -68,6 +76,11 @@ class ProcessSpec:
         ready_timeout: seconds (wall clock) to wait for readiness.
         env: extra environment variables.
         required: when a required process exits (even with code 0), the launch ends.
+        respawn: start it again when it exits (launch's ``respawn``); the launch ends only once it
+            has been given up (see ros_tools.launch_respawn).
+        respawn_delay: s (wall) between its exit and its new start (launch's ``respawn_delay``).
+        respawn_max_deaths: deaths within ``respawn_window`` s after which it is given up.
+        respawn_window: s (wall) over which its deaths are counted.
     """
 
     name: str
@@ -76,6 +89,14 @@ class ProcessSpec:
     ready_timeout: float = 60.0
     env: dict[str, str] = field(default_factory=dict)
     required: bool = True
+    respawn: bool = False
+    respawn_delay: float = 0.0
+    respawn_max_deaths: int = RESPAWN_MAX_DEATHS
+    respawn_window: float = RESPAWN_WINDOW
+
+    def respawn_policy(self) -> Respawn:
+        """The respawn settings as one checked value (ValueError on a bad one)."""
+        return Respawn(self.respawn, self.respawn_delay, self.respawn_max_deaths, self.respawn_window)
 
 
 def die_with_parent() -> None:
@@ -86,8 +107,10 @@ def die_with_parent() -> None:
 
 class _Running:
     def __init__(self, spec: ProcessSpec, color: str, out: Callable[[str], None],
-                 show: Callable[[str], bool], log_path: Path | None) -> None:
+                 show: Callable[[str], bool], log_path: Path | None, append: bool = False) -> None:
         self.spec = spec
+        self.color = color
+        self.restart_at: float | None = None  # monotonic s of a scheduled respawn, after its exit
         self.ready = threading.Event() if spec.ready else None
         self._pattern = re.compile(spec.ready) if spec.ready else None
         self.log_path = log_path
@@ -96,7 +119,7 @@ class _Running:
         log: TextIO | None = None
         if log_path is not None:
             log_path.parent.mkdir(parents=True, exist_ok=True)
-            log = log_path.open("w", encoding="utf-8", buffering=1)
+            log = log_path.open("a" if append else "w", encoding="utf-8", buffering=1)
         env = dict(os.environ, PYTHONUNBUFFERED="1", **spec.env)
         keep_dds_local(env)
         # A crash in native code (rclpy, Fast DDS, numba) leaves the Python stacks of every thread
@@ -163,6 +186,9 @@ class Launcher:
         self._show = show or (lambda _line: True)
         self.running: list[_Running] = []
         self._stop = threading.Event()
+        self._respawns: dict[str, RespawnTracker] = {}  # process name → its deaths
+        self._given_up: set[str] = set()  # respawning processes whose last exit is final
+        self._awaiting_ready: list[_Running] = []  # respawned processes whose ready line is to come
 
     def _print(self, line: str) -> None:
         with self._lock:
@@ -177,10 +203,10 @@ class Launcher:
             color = _COLORS[index % len(_COLORS)] if self._color else ""
             self.log(f"starting {spec.name}: {' '.join(spec.cmd)}")
             try:
-                log_path = self.log_dir / f"{spec.name}.log" if self.log_dir is not None else None
-                running = _Running(spec, color, self._output, self._show, log_path)
-            except OSError as error:
-                raise LaunchError(f"cannot start {spec.name} ({spec.cmd[0]}): {error}") from error
+                self._respawns[spec.name] = RespawnTracker(spec.respawn_policy())
+            except ValueError as error:
+                raise LaunchError(f"{spec.name}: {error}") from error
+            running = self._spawn(spec, color)
             self.running.append(running)
             if running.ready is None:
                 continue
@@ -208,27 +234,80 @@ class Launcher:
                              f"(until it prints '{spec.ready}')")
             self.log(f"{spec.name} is ready ({time.monotonic() - started:.1f} s)")
 
+    def _spawn(self, spec: ProcessSpec, color: str, append: bool = False) -> _Running:
+        try:
+            log_path = self.log_dir / f"{spec.name}.log" if self.log_dir is not None else None
+            return _Running(spec, color, self._output, self._show, log_path, append)
+        except OSError as error:
+            raise LaunchError(f"cannot start {spec.name} ({spec.cmd[0]}): {error}") from error
+
     def wait(self, until: Callable[[], bool] | None = None, poll: float = 0.1) -> int:
         """Supervise until a required process exits, ``until()`` is true or stop() is called.
 
-        Returns 0 when stopped by ``until``/stop() or when every process exited with 0; otherwise
-        the exit code of the first required process that ended, after logging which one it was.
+        A process with ``respawn`` is started again instead (see the module docstring) until it is
+        given up. Returns 0 when stopped by ``until``/stop() or when every process exited with 0;
+        otherwise the exit code of the first required process that ended, after logging which one.
         """
         while not self._stop.is_set():
             if until is not None and until():
                 return 0
-            for running in self.running:
+            for index, running in enumerate(self.running):
                 code = running.proc.poll()
-                if code is not None and running.spec.required:
-                    if code == 0:
-                        self.log(f"{running.spec.name} finished")
-                        return 0
+                if code is None:
+                    continue
+                respawning = running.spec.respawn and running.spec.name not in self._given_up
+                if respawning and self._respawn(index, running, code):
+                    continue
+                if not running.spec.required:
+                    continue
+                if code == 0:
+                    self.log(f"{running.spec.name} finished")
+                    return 0
+                if running.spec.name not in self._given_up:  # a given-up process has said why already
                     self.log(f"ERROR: {running.spec.name} died with exit code {code}; stopping the launch")
-                    running.drain()
-                    self._show_last_lines(running)
-                    return code if code > 0 else 1
+                running.drain()
+                self._show_last_lines(running)
+                return code if code > 0 else 1
+            self._log_ready_again()
             time.sleep(poll)
         return 0
+
+    def _respawn(self, index: int, running: _Running, code: int) -> bool:
+        """Handle the exit of a respawning process; False once it is given up (the caller ends)."""
+        now = time.monotonic()
+        if running.restart_at is None:  # its death, seen for the first time
+            tracker = self._respawns[running.spec.name]
+            restart_at = tracker.died(now)
+            if restart_at is None:
+                then = "; stopping the launch" if running.spec.required else ""
+                self.log(f"ERROR: {tracker.given_up_message(running.spec.name, code)}{then}")
+                self._given_up.add(running.spec.name)
+                running.drain()
+                return False
+            running.restart_at = restart_at
+            self.log(f"WARN: {running.spec.name} died with exit code {code}; respawning it "
+                     f"(restart {tracker.count} of at most {tracker.policy.max_deaths} within "
+                     f"{tracker.policy.window:.0f} s)")
+            running.drain()
+            self._show_last_lines(running)
+        if now < running.restart_at:
+            return True
+        self.log(f"respawning {running.spec.name}: {' '.join(running.spec.cmd)}")
+        try:
+            fresh = self._spawn(running.spec, running.color, append=True)
+        except LaunchError as error:
+            self.log(f"ERROR: {error}")
+            self._given_up.add(running.spec.name)
+            return False
+        self.running[index] = fresh
+        if fresh.ready is not None:
+            self._awaiting_ready.append(fresh)
+        return True
+
+    def _log_ready_again(self) -> None:
+        for running in [r for r in self._awaiting_ready if r.ready is not None and r.ready.is_set()]:
+            self._awaiting_ready.remove(running)
+            self.log(f"{running.spec.name} is ready again after its respawn")
 
     def _show_last_lines(self, running: _Running) -> None:
         """After a death: the process's last lines, when the console did not show them all."""

@@ -3,7 +3,7 @@
     nav-bringup [--world turtlebot3_world] [--robot waffle|burger|tb4] [--map maps/<world>.yaml]
                 [--params (the robot's: config/nav2_params.yaml or nav2_params_tb4.yaml)] [--rtf 1.0]
                 [--no-sim] [--isolated]
-                [--no-lockstep] [--executor events|single]
+                [--no-lockstep] [--no-respawn] [--executor events|single]
                 [--no-initial-pose] [--x X --y Y --yaw YAW (default: the world's first spawn)]
                 [--verbose] [--log-dir artifacts/logs]
 
@@ -23,10 +23,18 @@ readiness line (all with use_sim_time true; sim2d publishes /clock):
 default, so that every command and test that starts nav-bringup (the demos, the system tests) can be
 run in that layout without changing them (``--slam`` ignores it: it always runs separate processes).
 
-Then it prints exactly ``Nav2 is ready``. A process that dies ends the launch with its exit code
-(and its last lines are shown); Ctrl-C stops everything in reverse order. The simulator stays a
-separate process (nav_stack never imports sim2d). The console shows readiness, warnings and errors;
-each process's full log is in ``--log-dir`` (``--verbose`` streams it all).
+Then it prints exactly ``Nav2 is ready``. Respawn (default; ``--no-respawn`` turns it off), as
+nav2_bringup's ``use_respawn``: a node process that dies is started again with the same command and
+parameters after RESPAWN_DELAY s (ros_tools.launch's ``respawn``); its lifecycle managers start it up
+again (autostart), or, for a node whose manager lives on, the manager's bond brings the system back
+(``attempt_respawn_reconnection``). The initial-pose publisher then stays up and gives a restarted AMCL
+its last pose (nav_stack/ros/initial_pose_publisher.py says why). A node process that dies more than
+``respawn_max_deaths`` times in a row is given up, and the launch ends. The simulator is never
+respawned: a new one cannot restore the world (the robot's pose, spawned obstacles, the battery), so
+its death ends the launch at once, naming it. Without respawn, a process that dies ends the launch
+with its exit code (and its last lines are shown); Ctrl-C stops everything in reverse order. The
+simulator stays a separate process (nav_stack never imports sim2d). The console shows readiness,
+warnings and errors; each process's full log is in ``--log-dir`` (``--verbose`` streams it all).
 
 Lockstep (default; ``--no-lockstep`` turns it off): sim2d waits for the node processes (roles
 ``nav2``, or ``localization`` and ``navigation``) before its first step and never runs more than
@@ -52,6 +60,9 @@ from ros_tools.runtime.executor import add_executor_argument
 REPO = Path(__file__).resolve().parents[2]
 DEFAULT_PARAMS = params_for_robot("waffle")
 READY_LINE = "Nav2 is ready"
+RESPAWN_DELAY = 2.0  # s (wall) before a dead node process starts again: nav2_bringup's respawn_delay
+SIM_NOT_RESPAWNED = ("the simulator is not respawned: a new one cannot restore the world (robot pose, "
+                     "obstacles, battery)")
 
 
 def _python_module(module: str, *args: str) -> list[str]:
@@ -92,6 +103,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--participant", action="append", default=[], metavar="ROLE",
                         help="one more lockstep role the simulator waits for before its first step "
                              "(e.g. a state machine's name); repeatable")
+    parser.add_argument("--respawn", dest="respawn", action="store_true", default=True,
+                        help="start a node process that died again, as nav2_bringup's use_respawn (default)")
+    parser.add_argument("--no-respawn", dest="respawn", action="store_false",
+                        help="a node process that dies ends the launch")
     add_executor_argument(parser)
     parser.add_argument("--initial-pose", dest="initial_pose", action="store_true", default=True,
                         help="publish the initial pose until AMCL confirms it (default)")
@@ -219,11 +234,13 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
         slam = ["--map-from-slam"] if args.slam else []
         return ProcessSpec(component_role(name), _python_module(
             "nav_stack.ros.bringup", "component", name, *param_args, *map_args, *slam),
-            ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout)
+            ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout,
+            respawn=args.respawn, respawn_delay=RESPAWN_DELAY)
 
     initial_pose = ProcessSpec("initial_pose", _python_module(
         "nav_stack.ros.initial_pose_publisher", "--ros-args", "-p", "use_sim_time:=true",
-        "-p", f"x:={args.x}", "-p", f"y:={args.y}", "-p", f"yaw:={args.yaw}"),
+        "-p", f"x:={args.x}", "-p", f"y:={args.y}", "-p", f"yaw:={args.yaw}",
+        "-p", f"resend_after_restart:={'true' if args.respawn else 'false'}"),
         ready="AMCL confirmed the initial pose", ready_timeout=args.ready_timeout, required=False)
     if args.slam:  # Nav2's "navigation with SLAM": slam + map_saver instead of map_server + amcl
         from nav_stack.ros.slam_bringup import slam_processes
@@ -260,6 +277,7 @@ def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None
             launcher.start(process_specs(args))
             (output or (lambda line: print(line, flush=True)))(READY_LINE)
             code = launcher.wait()
+            _name_a_dead_simulator(launcher)
         except LaunchError as error:
             launcher.log(f"ERROR: {error}")
             code = 1
@@ -269,6 +287,13 @@ def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None
     if interrupted.is_set():
         return 130 if code == 0 else code
     return code
+
+
+def _name_a_dead_simulator(launcher: Any) -> None:
+    """Say why the launch ends when the simulator died (it has no respawn, unlike the node processes)."""
+    for running in launcher.running:
+        if running.spec.name == "sim2d" and running.proc.poll() is not None:
+            launcher.log(f"ERROR: sim2d died: {SIM_NOT_RESPAWNED}; ending the run")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

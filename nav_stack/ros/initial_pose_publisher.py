@@ -13,6 +13,17 @@ exit_when_done (True; False keeps the node idle). Times are wall-clock seconds (
 discovery and AMCL's start-up are wall-time matters). Nothing waits in a callback: a 0.1 s timer
 publishes and checks the timeout, the /amcl_pose callback confirms.
 Exit code of main(): 0 when confirmed, 1 on timeout.
+
+After a respawn (``resend_after_restart``, set by nav-bringup when it respawns processes): the node
+stays up, remembers the newest pose on /amcl_pose, and when a new /amcl_pose publisher appears in the
+graph (AMCL creates it at configure: a respawned AMCL, or one its manager reset), publishes that pose
+on /initialpose until the new AMCL confirms it. The graph is polled (RESTART_POLL_S) rather than
+AMCL's ``transition_event`` heard: a new process's event is often sent before DDS has matched it.
+Why this and not AMCL's own memory: Nav2's AMCL re-seeds from its last known
+pose when it is reset inside a living process (``always_reset_initial_pose`` false; ours does too,
+amcl_node), but a respawned AMCL process starts empty, and Nav2's other answer, ``set_initial_pose``
+with the ``initial_pose`` parameters, would put the robot back at its start pose. The pose is sent
+with ``covariance`` (not AMCL's last, tighter one): the robot may have rolled on while AMCL was gone.
 """
 
 from __future__ import annotations
@@ -36,6 +47,7 @@ from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.runner import destroy_nodes, split_runner_flags
 
 NODE_NAME = "amcl_init_pose_publisher"
+RESTART_POLL_S = 0.5  # s (steady) between two looks for a new /amcl_pose publisher
 
 
 @dataclass(frozen=True)
@@ -49,6 +61,8 @@ class InitialPoseParams:
     position_tolerance: float = 0.5
     yaw_tolerance: float = 0.5
     exit_when_done: bool = True
+    #: Not in Nav2 (nav2_bringup has no initial-pose node): after AMCL restarts, send it its last pose.
+    resend_after_restart: bool = False
 
     def __post_init__(self) -> None:
         for name in ("x", "y", "yaw"):
@@ -71,14 +85,21 @@ class InitialPosePublisher(Node):
         self._pub = self.create_publisher(PoseWithCovarianceStamped, "initialpose", DEFAULT)
         self.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self._on_amcl_pose, LATCHED)
         self._last_publish = -math.inf
-        self._timer = self.create_timer(0.1, self._tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._target = (self.params.x, self.params.y, self.params.yaw)  # m, m, rad: the pose to confirm
+        self._last_amcl: tuple[float, float, float] | None = None  # the newest /amcl_pose (m, m, rad)
+        self.resent = 0  # restarts of AMCL answered with its last pose
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timer = self.create_timer(0.1, self._tick, clock=self._steady)
+        self._amcl_publishers: set[bytes] = set()  # gids of every /amcl_pose publisher seen so far
+        if self.params.resend_after_restart:
+            self.create_timer(RESTART_POLL_S, self._watch_amcl, clock=self._steady)
 
     def _message(self) -> PoseWithCovarianceStamped:
         p = self.params
         msg = PoseWithCovarianceStamped()
         msg.header.frame_id = "map"
         msg.header.stamp = self.get_clock().now().to_msg()
-        msg.pose.pose = pose_from_2d(p.x, p.y, p.yaw)
+        msg.pose.pose = pose_from_2d(*self._target)
         covariance = [0.0] * 36
         covariance[0] = covariance[7] = covariance[35] = p.covariance
         msg.pose.covariance = covariance
@@ -98,15 +119,18 @@ class InitialPosePublisher(Node):
         self._pub.publish(self._message())
         self._last_publish = now
         self.published += 1
-        p = self.params
-        self.get_logger().info(f"Published initial pose ({p.x:.2f}, {p.y:.2f}, {p.yaw:.2f}) on /initialpose")
+        x, y, yaw = self._target
+        self.get_logger().info(f"Published initial pose ({x:.2f}, {y:.2f}, {yaw:.2f}) on /initialpose")
 
     def _on_amcl_pose(self, msg: PoseWithCovarianceStamped) -> None:
-        if self.done is not None or self.published == 0:
-            return  # a latched pose from before our request says nothing about it
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        distance = math.hypot(p.x - self.params.x, p.y - self.params.y)
-        yaw_error = abs(angle_diff(yaw_or_nan(q.x, q.y, q.z, q.w), self.params.yaw))
+        yaw = yaw_or_nan(q.x, q.y, q.z, q.w)
+        if self.done is not None or self.published == 0:
+            if self.done and math.isfinite(yaw):
+                self._last_amcl = (p.x, p.y, yaw)
+            return  # a latched pose from before our request says nothing about it
+        distance = math.hypot(p.x - self._target[0], p.y - self._target[1])
+        yaw_error = abs(angle_diff(yaw, self._target[2]))
         if distance <= self.params.position_tolerance and yaw_error <= self.params.yaw_tolerance:
             self.get_logger().info(f"AMCL confirmed the initial pose "
                                    f"({distance:.3f} m, {yaw_error:.3f} rad off)")
@@ -114,7 +138,30 @@ class InitialPosePublisher(Node):
 
     def _finish(self, confirmed: bool) -> None:
         self.done = confirmed
-        self.destroy_timer(self._timer)
+        self._timer.cancel()
+        if confirmed:
+            self._last_amcl = self._target
+            self._new_amcl_publishers()  # the confirming AMCL's publisher is not a new one
+
+    def _new_amcl_publishers(self) -> bool:
+        """Whether /amcl_pose has a publisher not seen before (all seen ones are remembered: a dead
+        process's publisher lingers in the graph for a while and must not count twice)."""
+        infos = self.get_publishers_info_by_topic(self.resolve_topic_name("amcl_pose"))
+        gids = {bytes(info.endpoint_gid) for info in infos}
+        new = gids - self._amcl_publishers
+        self._amcl_publishers |= gids
+        return bool(new)
+
+    def _watch_amcl(self) -> None:
+        """A new AMCL (a respawn, or its manager's reset): send it its last pose."""
+        if not self._new_amcl_publishers() or not self.done or self._last_amcl is None:
+            return
+        self._target = self._last_amcl
+        self.done, self.published, self.resent = None, 0, self.resent + 1
+        self._started, self._last_publish = time.monotonic(), -math.inf
+        x, y, yaw = self._target
+        self.get_logger().info(f"AMCL is back: sending its last pose ({x:.2f}, {y:.2f}, {yaw:.2f})")
+        self._timer.reset()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -131,7 +178,8 @@ def main(argv: list[str] | None = None) -> int:
     executor = make_executor(executor_kind)
     executor.add_node(node)
     try:
-        while rclpy.ok() and (node.done is None or not node.params.exit_when_done):
+        stay = not node.params.exit_when_done or node.params.resend_after_restart
+        while rclpy.ok() and (node.done is None or stay):
             executor.spin_once(timeout_sec=0.1)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass

@@ -19,7 +19,9 @@ Bonds: active nodes heartbeat bond/msg/Status on /bond with ``id`` = node name. 
 missing for ``bond_timeout`` (or the node reports its bond inactive while the system is active),
 the manager logs Nav2's CRITICAL FAILURE message, resets every other node, and (with
 ``attempt_respawn_reconnection``) re-runs startup once all nodes answer again, for up to
-``bond_respawn_max_duration``.
+``bond_respawn_max_duration``: a respawned node process (nav-bringup's ``use_respawn``) answers
+unconfigured; a frozen one (SIGSTOP past ``bond_timeout``) answers again on SIGCONT in whatever state
+the reset could not change while it was frozen, and is reset again before the startup.
 
 A manager that itself did not run for a while (its bond check came more than ``MANAGER_STALL`` late:
 the process was starved of CPU, or another node of the same process held its thread) does not blame
@@ -364,6 +366,10 @@ class LifecycleManager(Node):
         if all(state is not None for state in states):
             self._message("All managed nodes answer again: restarting them")
             self._stop_respawn()
+            if any(state != State.PRIMARY_STATE_UNCONFIGURED for state in states):
+                # A frozen node (SIGSTOP) missed the reset: it comes back in the state it froze in.
+                self._message("A managed node missed the reset while it did not answer: resetting again")
+                await self.reset(hard=True)
             if not await self.startup():
                 self._start_respawn()
 

@@ -10,8 +10,8 @@ Events (values as in the scenario file; each becomes one message to sim2d, or on
 * ``kill_navigation``: SIGKILL of the process running bt_navigator and the controller, the lockstep
   participant ``nav2`` (or ``navigation``) whose pid it read on /lockstep/progress
   (ros_tools.scenarios.navigation_kill: why there, and the guard). The injector does it, not the
-  worker, because only the injector follows sim time. nav-bringup then ends the launch as for any
-  process that dies, and the mission ends with STACK.
+  worker, because only the injector follows sim time. nav-bringup then respawns the process (its
+  ``use_respawn``; with ``--no-respawn`` the launch ends and the mission with STACK).
 
 It is a lockstep participant (role ``scenario_events``) that reports only once every publisher it needs
 has matched the simulator's subscription and, for ``kill_navigation``, once it has heard the

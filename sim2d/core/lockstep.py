@@ -12,6 +12,11 @@ stacks and a test run on two cores), and a sim that then went on without it drov
 its last command into a pillar. Waiting long for a live process keeps the outcome independent of
 load; checking the pid keeps a crash from stalling the world for as long.
 
+A role the sim was told to expect whose process is gone is expected again: a supervisor that
+respawns it (nav-bringup's respawn, as nav2_bringup's ``use_respawn``) starts a new process under a
+new name, and the world must not run on while the restarted stack is still starting. The sim holds
+as before its first step, for at most ``startup_timeout`` wall seconds, then goes on without it.
+
 The protocol (participant side: ``ros_tools/runtime/lockstep.py``): each participant, named
 ``<role>:<pid>``, reports the newest sim time it has fully processed; a report of 0 ns says it
 leaves. The gate is pure (stdlib only): the caller passes the wall time (s, any monotonic origin)
@@ -63,12 +68,15 @@ class Dropped:
         name: the participant's full name, or None for an expected role that never reported.
         silent_for: wall seconds without a report (since the gate started, for a missing role).
         gone: its process no longer exists (dropped after ``dead_grace``, not ``timeout``).
+        awaited: its role is expected, so the sim holds until a new process of that role joins (a
+            respawn) or ``startup_timeout`` passes.
     """
 
     role: str
     name: str | None
     silent_for: float
     gone: bool = False
+    awaited: bool = False  # an expected role whose process is gone: held for until a new one joins
 
 
 class LockstepGate:
@@ -92,9 +100,10 @@ class LockstepGate:
         self.dead_grace = min(dead_grace, timeout)
         self._alive = alive
         self._live: dict[str, _Participant] = {}
-        self._missing = set(expected)
-        self._started_wall = wall_now
-        self._startup_deadline = wall_now + startup_timeout
+        self._expected = frozenset(expected)
+        self.startup_timeout = startup_timeout
+        #: expected role not heard (yet, or again after its process died) -> wall s since when
+        self._missing = dict.fromkeys(self._expected, wall_now)
         self._suspended_at: float | None = None
         self._dropped: list[Dropped] = []
 
@@ -117,7 +126,7 @@ class LockstepGate:
         if time_ns == LEAVE_NS:
             self._live.pop(name, None)
             return False
-        self._missing.discard(role_of(name))
+        self._missing.pop(role_of(name), None)
         known = self._live.get(name)
         if known is None:
             self._live[name] = _Participant(time_ns, wall_now)
@@ -157,8 +166,8 @@ class LockstepGate:
         self._suspended_at = None
         for participant in self._live.values():
             participant.heard_wall += paused
-        self._startup_deadline += paused
-        self._started_wall += paused
+        for role in self._missing:
+            self._missing[role] += paused
 
     def _expire(self, wall_now: float) -> None:
         if self._suspended_at is not None:
@@ -170,8 +179,12 @@ class LockstepGate:
             gone = not self._alive(name)
             if gone or silent >= self.timeout:
                 del self._live[name]
-                self._dropped.append(Dropped(role_of(name), name, silent, gone))
-        if self._missing and wall_now >= self._startup_deadline:
-            silent = wall_now - self._started_wall
-            self._dropped.extend(Dropped(role, None, silent) for role in sorted(self._missing))
-            self._missing.clear()
+                role = role_of(name)
+                awaited = gone and role in self._expected and all(role_of(n) != role for n in self._live)
+                if awaited:
+                    self._missing[role] = wall_now
+                self._dropped.append(Dropped(role, name, silent, gone, awaited))
+        for role, since in sorted(self._missing.items()):
+            if wall_now - since >= self.startup_timeout:
+                del self._missing[role]
+                self._dropped.append(Dropped(role, None, wall_now - since))

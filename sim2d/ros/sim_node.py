@@ -327,6 +327,11 @@ class Sim2dNode(Node):
                 self.get_logger().warning(
                     f"lockstep: {dropped.role} has not reported within {cfg.startup_timeout} s wall "
                     "(lockstep.startup_timeout); the simulator goes on without it")
+            elif dropped.awaited:
+                self.get_logger().warning(
+                    f"lockstep: {dropped.role} ({dropped.name}) is gone (its process has exited without "
+                    f"leaving); the simulator holds until a new {dropped.role} process joins (a respawn), "
+                    f"at most {cfg.startup_timeout} s wall (lockstep.startup_timeout)")
             elif dropped.gone:
                 self.get_logger().warning(
                     f"lockstep: {dropped.role} ({dropped.name}) is gone (its process has exited without "

@@ -132,3 +132,29 @@ def test_role_is_the_name_before_the_last_colon() -> None:
     assert role_of("nav2:4242") == "nav2"
     assert role_of("ns:sub:17") == "ns:sub"
     assert role_of("plain") == "plain"
+
+
+def test_an_expected_role_whose_process_is_gone_is_awaited_again_until_a_respawn_joins() -> None:
+    """A respawned stack starts under a new pid: the world must not run on while it starts; a role
+    that never comes back is given up after the startup timeout, as at the start; a participant
+    whose role was not expected is not waited for."""
+    gone: set[str] = set()
+    gate = LockstepGate(LEAD, timeout=30.0, wall_now=100.0, expected=("nav2",), startup_timeout=60.0,
+                        dead_grace=1.0, alive=lambda name: name not in gone)
+    gate.report("nav2:7", 300 * MS, 100.0)
+    gate.report("probe:3", 900 * MS, 100.0)
+    assert gate.limit_ns(100.0) == 300 * MS + LEAD
+    gone.update({"nav2:7", "probe:3"})
+    assert gate.limit_ns(101.0) == HOLD                      # both silent 1 s and gone: nav2 held for
+    assert gate.take_dropped() == [Dropped("nav2", "nav2:7", 1.0, gone=True, awaited=True),
+                                   Dropped("probe", "probe:3", 1.0, gone=True)]
+    assert gate.waiting_for == {"nav2"}
+    assert gate.report("nav2:8", 310 * MS, 104.0) is True     # the respawned process joins
+    assert gate.waiting_for == frozenset()
+    assert gate.limit_ns(104.0) == 310 * MS + LEAD
+    gone.add("nav2:8")                                        # dies too, and nothing restarts it
+    assert gate.limit_ns(105.0) == HOLD
+    assert gate.take_dropped() == [Dropped("nav2", "nav2:8", 1.0, gone=True, awaited=True)]
+    assert gate.limit_ns(164.9) == HOLD                       # 59.9 s after it was found gone
+    assert gate.limit_ns(165.0) is None                       # given up: nobody holds the sim
+    assert gate.take_dropped() == [Dropped("nav2", None, 60.0)]
