@@ -1,9 +1,10 @@
 """A small benchmark harness shared by every benchmark under bench/.
 
 Why: speed is measured, never asserted. Each benchmark times a callable N times, prints
-median/min/max, and appends one dated row per metric to bench/RESULTS.md together with the
+median/min/max, and appends one dated row per metric to bench/history.jsonl together with the
 machine's CPU model, core count and Python version, so results from different days and machines
-can be compared side by side.
+can be compared side by side. It then regenerates bench/RESULTS.md, the dashboard of the latest
+value of every metric (bench/results_dashboard.py).
 
 Usage::
 
@@ -13,7 +14,7 @@ Usage::
     stats = bench.time("physics+lidar step", step, repeat=200, warmup=10)   # seconds per call
     bench.record("physics+lidar step", stats.median * 1e3, "ms", note="waffle, 360 beams")
     bench.record_value("node real-time factor (max mode)", 143.0, "x")
-    bench.save()                                                           # append to RESULTS.md
+    bench.save()                                  # append to history.jsonl, regenerate RESULTS.md
 
 Run one benchmark with ``.venv/bin/python -m bench.<module>``; ``--no-record`` prints only.
 """
@@ -33,15 +34,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-RESULTS = Path(__file__).resolve().parent / "RESULTS.md"
-_HEADER = (
-    "# Benchmark results\n\n"
-    "Rows are appended by `bench/harness.py`; each names the date, the machine and the median.\n"
-    "Numbers are comparable only within one machine; ratios against a baseline measured in the same\n"
-    "run are printed by the benchmarks themselves.\n\n"
-    "| date | suite | metric | median | min | max | unit | n | machine | note |\n"
-    "|---|---|---|---|---|---|---|---|---|---|\n"
-)
+from bench import results_dashboard
+from bench.results_dashboard import Row
+
+REPO = Path(__file__).resolve().parents[1]
 
 
 def machine_description() -> str:
@@ -84,7 +80,7 @@ def claim_domain_id() -> int:
 def _git(*args: str) -> str:
     import subprocess
 
-    return subprocess.run(["git", "-C", str(RESULTS.parents[1]), *args], capture_output=True,
+    return subprocess.run(["git", "-C", str(REPO), *args], capture_output=True,
                           text=True).stdout
 
 
@@ -153,22 +149,22 @@ def parse_cli(description: str | None) -> argparse.Namespace:
     """The command line of a benchmark without options of its own: ``--no-record`` and ``--help``.
 
     Why: without a parser, ``--help`` (or a mistyped option) ran the whole benchmark on a possibly
-    busy machine and appended its rows to RESULTS.md.
+    busy machine and appended its rows to the history.
     """
     parser = argparse.ArgumentParser(description=description,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--no-record", action="store_true",
-                        help="print only; do not append to bench/RESULTS.md")
+                        help="print only; do not append to bench/history.jsonl")
     return parser.parse_args()
 
 
 @dataclass
 class Benchmark:
-    """Collects the rows of one benchmark suite and appends them to RESULTS.md."""
+    """Collects the rows of one benchmark area and appends them to bench/history.jsonl."""
 
-    suite: str
+    suite: str  # the area the rows belong to, e.g. "planning"
     record_results: bool = field(default_factory=lambda: "--no-record" not in sys.argv)
-    rows: list[str] = field(default_factory=list)
+    rows: list[Row] = field(default_factory=list)
 
     def time(self, label: str, fn: Callable[[], object], repeat: int = 50, warmup: int = 3) -> Stats:
         """Call ``fn`` ``warmup`` times untimed, then ``repeat`` times; return seconds per call."""
@@ -199,20 +195,18 @@ class Benchmark:
 
     def _add(self, metric: str, median: float, low: float, high: float, unit: str, n: int,
              note: str) -> None:
-        today = _dt.date.today().isoformat()
-        note = note.replace("|", "/")  # a pipe would split the table cell
-        self.rows.append(
-            f"| {today} | {self.suite} | {metric} | {median:.4g} | {low:.4g} | {high:.4g} | {unit} | {n} "
-            f"| {machine_description()} | {note} |\n"
-        )
+        # Four significant digits, as printed: the history records what a reader saw.
+        self.rows.append(Row(date=_dt.date.today().isoformat(), area=self.suite, metric=metric,
+                             median=float(f"{median:.4g}"), min=float(f"{low:.4g}"),
+                             max=float(f"{high:.4g}"), unit=unit, n=n, machine=machine_description(),
+                             note=note))
 
     def save(self) -> None:
-        """Append the queued rows to bench/RESULTS.md (creating it with a header if needed)."""
+        """Append the queued rows to bench/history.jsonl and regenerate bench/RESULTS.md."""
         if not self.record_results or not self.rows:
             return
-        if not RESULTS.exists():
-            RESULTS.write_text(_HEADER)
-        with RESULTS.open("a") as out:
-            out.writelines(self.rows)
-        print(f"{self.suite}: {len(self.rows)} rows appended to {RESULTS}")
+        results_dashboard.append_rows(self.rows)
+        dashboard = results_dashboard.write_dashboard()
+        print(f"{self.suite}: {len(self.rows)} rows appended to {results_dashboard.HISTORY}; "
+              f"{dashboard} regenerated")
         self.rows.clear()

@@ -1,7 +1,7 @@
-"""The README's "Writing your own client": an action client and a topic client, each with a sync and
+"""docs/smacc2-guide.md's "Writing your own client": an action client and a topic client, each with a sync and
 an async behavior, and a small machine that uses all four (tests run it against a fake peer).
 
-The part between the ``README:begin`` and ``README:end`` lines is copied verbatim into README.md;
+The part between the ``README:begin`` and ``README:end`` lines is copied verbatim into docs/smacc2-guide.md;
 tests/unit/smacc_py/test_readme_client_guide.py fails when the two differ.
 """
 

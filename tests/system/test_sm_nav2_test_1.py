@@ -120,7 +120,7 @@ def test_waypoint_beyond_the_outer_wall_aborts_with_the_planners_error(tmp_path:
     assert transitions[:2] == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS[:2]]
     assert transitions[-1] == "StNavigateToWaypoint1 -> StFinalState [ABORT]"
     abort_line = next(line for line in done.stdout.splitlines() if "StFinalState [ABORT]" in line)
-    # the planner's Nav2 error code and message reach the output (the README quotes this line)
+    # the planner's Nav2 error code and message reach the output (docs/demo.md quotes this line)
     assert "error_code 208: 'compute_path_to_pose' failed with error code 208 (NO_VALID_PATH)" in abort_line
     assert "result: ABORT" in done.stdout
     # the calm console hides the stack's output, but not the warnings that explain a failure
@@ -140,7 +140,7 @@ def test_demo_runs_the_mission_with_a_tb4(tmp_path: Path) -> None:
 @pytest.mark.timeout(900)
 def test_upstreams_second_waypoint_in_a_pillar_succeeds_within_the_planner_tolerance(tmp_path: Path) -> None:
     """(0, 0) is inside turtlebot3_world's middle pillar. NavFn's 0.5 m tolerance plans to the nearest
-    reachable point instead, so the goal succeeds, as it does with Nav2 (the README says so)."""
+    reachable point instead, so the goal succeeds, as it does with Nav2 (docs/demo.md says so)."""
     done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint2", "0,0,0",
                  "--no-report")
     assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]

@@ -44,7 +44,7 @@ def _command(script: str, module: str) -> list[str]:
 
 
 def _run(cmd: list[str]) -> str:
-    """Run a command line as a user would (the README's), asserting exit status 0; its output."""
+    """Run a command line as a user would (docs/smacc2-guide.md's), asserting exit status 0; its output."""
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=WALL_S)
     assert done.returncode == 0, f"{cmd}: {done.stdout}{done.stderr}"
     return done.stdout
@@ -61,7 +61,7 @@ class MachineOnGraph:
         self.node.create_subscription(SmaccTransitionLogEntry, f"/{sm_name}/smacc/transition_log",
                                       self.log.append, LOG)
         self.clock = SimClockLeader(self.node, sm_name, step_s=step_s)
-        # As the README says. The SingleThreadedExecutor: rclpy's EventsExecutor stalls now and then on a
+        # As docs/smacc2-guide.md says. The SingleThreadedExecutor: rclpy's EventsExecutor stalls now and then on a
         # /clock that stands still between steps (a busy loop, memory growing; see SimClockLeader).
         command = [*_command("smacc-run", "smacc_py.ros.runner"), machine, "--executor", "single",
                    "--ros-args", "-p", "use_sim_time:=true"]

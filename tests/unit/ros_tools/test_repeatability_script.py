@@ -1,4 +1,4 @@
-"""scripts/repeatability.py (README, "What repeats"): where two recordings of a run first differ.
+"""scripts/repeatability.py (docs/architecture.md, "What repeats"): where two recordings of a run first differ.
 
 Two synthetic runs (tests/helpers/bag_synthetic.py) with the same seed are the same run recorded
 twice: the script says so and exits 0. Another seed changes only AMCL's estimates: the script names

@@ -1,4 +1,4 @@
-"""The README's "Writing your own client" shows exactly the code that the tests run."""
+"""docs/smacc2-guide.md's "Writing your own client" shows exactly the code that the tests run."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ REPO = Path(__file__).resolve().parents[3]
 
 
 def _readme_code() -> str:
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
-    section = readme.split("\n## Writing your own client\n", 1)[1].split("\n## ", 1)[0]
+    guide = (REPO / "docs" / "smacc2-guide.md").read_text(encoding="utf-8")
+    section = guide.split("\n## Writing your own client\n", 1)[1].split("\n## ", 1)[0]
     blocks = re.findall(r"```python\n(.*?)```", section, flags=re.DOTALL)
     assert len(blocks) == 1, "the section should hold one Python block"
     return blocks[0]
@@ -29,7 +29,7 @@ def test_the_readme_block_is_the_example_module_verbatim() -> None:
 
 def test_the_readme_block_runs_and_defines_the_clients_and_behaviors() -> None:
     namespace: dict[str, object] = {}
-    exec(compile(_readme_code(), "README.md", "exec"), namespace)
+    exec(compile(_readme_code(), "docs/smacc2-guide.md", "exec"), namespace)
     for name in ("ClWait", "CbWaitFor", "CbWaitForServerAsync", "ClThermometer", "CbWaitHot",
                  "CbFirstReadingAsync"):
         assert name in namespace, name
