@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
     """
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
 
-    _, executor_kind, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
+    _, executor_kind, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
     rclpy.init(args=rclpy_args)
     node = InitialPosePublisher()
     executor = make_executor(executor_kind)

@@ -191,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
-    autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
+    autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
     return run_nodes(lambda: [MapSaver()], role="map_saver", rclpy_args=rclpy_args, executor=executor,
                      autostart=autostart)
 

@@ -25,6 +25,7 @@ def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None 
     import nav_stack.ros  # noqa: F401 - sets the LOCALHOST discovery default
 
     args = list(sys.argv if argv is None else argv)
-    autostart, executor, rclpy_args = split_runner_flags(args)
+    module = sys.modules.get(getattr(build_nodes, "__module__", ""), None)
+    autostart, executor, rclpy_args = split_runner_flags(args, getattr(module, "__doc__", None))
     name = role or (args[0].rsplit("/", 1)[-1] if args else "nav_stack")
     return run_nodes(build_nodes, role=name, rclpy_args=rclpy_args, executor=executor, autostart=autostart)

@@ -296,7 +296,7 @@ def main(argv: list[str] | None = None) -> int:
     does); with ``use_sim_time`` the process takes part in lockstep as ``slam``."""
     from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
-    autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv)
+    autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
     nodes: list[SlamNode] = []
 
     def build() -> list[SlamNode]:

@@ -27,17 +27,26 @@ BuildNodes = Callable[[], Sequence[Any]]
 SPIN_SLICE = 0.1  # s: the longest the process goes without checking for Ctrl-C
 
 
-def split_runner_flags(argv: Sequence[str]) -> tuple[bool, str | None, list[str]]:
+def split_runner_flags(argv: Sequence[str],
+                       description: str | None = None) -> tuple[bool, str | None, list[str]]:
     """(``--autostart`` given, ``--executor`` value, the remaining arguments) of a command line.
 
-    Only arguments before ``--ros-args`` are looked at; the rest is rclpy's.
+    Only arguments before ``--ros-args`` are looked at; the rest is rclpy's. ``-h``/``--help`` there
+    prints the usage (with ``description``, e.g. the server module's docstring) and exits 0: a node
+    started by ``--help`` would otherwise spin, waiting for a lifecycle manager that never comes.
     """
     import argparse
+    import os
 
     args = list(argv)
     split = args.index("--ros-args") if "--ros-args" in args else len(args)
-    parser = argparse.ArgumentParser(add_help=False)
-    parser.add_argument("--autostart", action="store_true")
+    parser = argparse.ArgumentParser(
+        prog=os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else None, description=description,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="ROS arguments follow --ros-args, e.g. --ros-args --params-file config/nav2_params.yaml "
+               "-p use_sim_time:=true")
+    parser.add_argument("--autostart", action="store_true",
+                        help="configure and activate the nodes (otherwise a lifecycle manager does)")
     add_executor_argument(parser)
     known, rest = parser.parse_known_args(args[:split])
     return known.autostart, known.executor, rest + args[split:]
