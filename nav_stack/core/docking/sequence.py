@@ -63,6 +63,13 @@ from nav_stack.core.geometry import Pose2D, angle_diff, normalize_angle
 
 STAGING_ATTEMPTS = 2  # Nav2's navigator tries the staging navigation once more after a failure
 SETTLE_TOLERANCE = 0.003  # m short of the dock pose at which the settling approach stops (one 50 Hz step)
+#: s: while settling (see ``DockingSequence._settle``) the speed is capped at (distance still to go) /
+#: SETTLE_TIME_CONSTANT and the heading error closes at the same rate, so the robot closes the last
+#: centimetres exponentially. Not in Nav2. Why: at v_linear_min (0.15 m/s) a base that brakes at 1 m/s²
+#: (the waffle; 0.9 for a Create 3) needs 1.1 cm to stop, plus 3 mm per 50 Hz cycle of command latency:
+#: the robot ended 1.2-1.8 cm past the dock pose (bench/bench_docking.py). With 0.3 s the cap starts
+#: 4.5 cm out, within docking_threshold, asks for 0.5 m/s² of braking and stops at about 1 cm/s.
+SETTLE_TIME_CONSTANT = 0.3
 
 
 class Phase(enum.Enum):
@@ -305,20 +312,26 @@ class DockingSequence:
         Nav2 commands nothing once "docked" (``docking_threshold``, 5 cm before the dock pose): a real
         base keeps its last command until its bumper or contacts stop it on the dock. A simulated base
         coasts on for its command timeout instead (0.5 s at 0.15 m/s: 7.5 cm), past the contacts and
-        into the dock. So the approach goes on, on the refined dock pose, until base_link reaches it
-        (SETTLE_TOLERANCE m short of it along the dock's heading), then the robot stops and waits.
+        into the dock. So the robot goes on towards the refined dock pose, slowing down as it closes in
+        (SETTLE_TIME_CONSTANT), until base_link reaches it (SETTLE_TOLERANCE m short of it along the
+        dock's heading), then stops and waits. It turns onto the dock's heading meanwhile rather than
+        following the control law: 5 cm from the dock a lateral offset can no longer be corrected, and
+        the law's attempts (its target lies 0.25 m past the dock, so a few millimetres of detection
+        noise steer at up to 0.3 rad/s) swung the heading 0.1 rad off, the contacts' limit.
         """
         refined = self._refine(now)
         if refined is not None:
             self.dock_pose = refined
         backwards = self.params.dock_backwards
-        ahead = relative(self.dock_pose, robot).x * (-1.0 if backwards else 1.0)  # m still to go
+        offset = relative(self.dock_pose, robot)  # the dock in the robot frame
+        ahead = -offset.x if backwards else offset.x  # m still to go
         if ahead <= SETTLE_TOLERANCE:
             return STOP
-        target = relative(approach_target(self.dock_pose, backwards), robot)
-        obstacles = self.world.obstacles()
-        in_costmap = robot_in_costmap(self.world, robot, self.params.fixed_frame, obstacles)
-        return self.controller.command(target, in_costmap, obstacles, True, backwards)
+        limits = self.controller.params
+        speed = min(limits.v_linear_max, ahead / SETTLE_TIME_CONSTANT)
+        heading_error = normalize_angle(offset.yaw + math.pi) if backwards else offset.yaw
+        turn = max(-limits.v_angular_max, min(limits.v_angular_max, heading_error / SETTLE_TIME_CONSTANT))
+        return Twist2D(-speed if backwards else speed, turn)
 
     def _reset(self, now: float) -> DockingStep | None:
         dock, p, staging = self._dock, self.params, self.staging

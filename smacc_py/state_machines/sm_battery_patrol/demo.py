@@ -10,6 +10,7 @@ Examples::
     sm-battery-patrol --rtf 5 --cycles 2
     sm-battery-patrol --robot tb4
     sm-battery-patrol --low-threshold 0.95 --charged-threshold 0.99   # recharge about once per round
+    sm-battery-patrol --recharge dock   # recharge on turtlebot3_world's dock (Nav2's docking_server)
 """
 
 from __future__ import annotations
@@ -33,7 +34,13 @@ if TYPE_CHECKING:
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
 #: sim2d's battery drained as in the seed (2 % per metre): a real waffle's would last two hours.
 SIM_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sim2d_battery_patrol.yaml"
-CYCLES_KEY, VISITS_KEY, RECHARGES_KEY = "patrol_cycles", "visits", "recharges"
+CONFIG = Path(__file__).resolve().parents[3] / "config"
+#: --recharge dock: the docking_server overlay for turtlebot3_world, over the robot's Nav2 file, and the
+#: docking patrols' sim2d overlay (the seed's fast battery, charged on the dock's contacts only).
+DOCK_PARAMS = CONFIG / "docks" / "turtlebot3_world.yaml"
+DOCK_SIM_PARAMS = CONFIG / "autonomy_docking.yaml"
+NAV_PARAMS = {"tb4": CONFIG / "nav2_params_tb4.yaml"}  # else config/nav2_params.yaml (the TurtleBot3s)
+CYCLES_KEY, VISITS_KEY, RECHARGES_KEY, DOCKINGS_KEY = "patrol_cycles", "visits", "recharges", "dockings"
 
 
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
@@ -50,11 +57,19 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="ros__parameters YAML for node SmBatteryPatrol")
     parser.add_argument("--low-threshold", type=float, help="charge (0..1) at which to recharge")
     parser.add_argument("--charged-threshold", type=float, help="charge (0..1) at which to resume")
+    parser.add_argument("--recharge", choices=("station", "dock"),
+                        help="recharge mode (default: the parameters file's, station); dock: Nav2's "
+                             "DockRobot / UndockRobot on the world's dock, with --dock-params and, unless "
+                             "--sim-params is given, config/autonomy_docking.yaml's sim2d battery")
+    parser.add_argument("--dock-params", type=Path, default=DOCK_PARAMS,
+                        help="--recharge dock: nav-bringup's docking_server overlay (default "
+                             "config/docks/turtlebot3_world.yaml), applied over the robot's Nav2 file")
     parser.add_argument("--ready-timeout", type=float, default=180.0,
                         help="wall s to wait for 'Nav2 is ready'")
-    parser.add_argument("--sim-params", type=Path, default=SIM_PARAMS if SIM_PARAMS.exists() else None,
+    parser.add_argument("--sim-params", type=Path, default=None,
                         help="nav-bringup --sim-params: sim2d parameters over config/sim2d.yaml "
-                             "(default: the seed's fast-draining battery)")
+                             "(default: the seed's fast-draining battery, charged at the station; with "
+                             "--recharge dock on the dock)")
     parser.add_argument("--bringup", help="command that starts the stack instead of nav-bringup")
     parser.add_argument("--bringup-arg", action="append", default=[],
                         help="extra argument for the stack command (repeatable)")
@@ -62,6 +77,12 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     options = parser.parse_args(argv)
     if options.cycles < 1:
         parser.error(f"--cycles must be >= 1, got {options.cycles}")
+    if options.sim_params is None:
+        default = DOCK_SIM_PARAMS if options.recharge == "dock" else SIM_PARAMS
+        options.sim_params = default if default.exists() else None
+    # run_against_stack's nav-bringup --params: the robot's file and the docking overlay
+    options.nav_params = ([NAV_PARAMS.get(options.robot or "waffle", CONFIG / "nav2_params.yaml"),
+                           options.dock_params] if options.recharge == "dock" else None)
     return options
 
 
@@ -84,9 +105,12 @@ def patrol_runtime(options: argparse.Namespace) -> AbstractContextManager[SmaccR
     """SmBatteryPatrol's runtime with the command's parameters file and thresholds (``machine_runtime``)."""
     from smacc_py.state_machines.sm_battery_patrol import SmBatteryPatrol
 
-    thresholds = {name: float(getattr(options, name)) for name in ("low_threshold", "charged_threshold")
-                  if getattr(options, name) is not None}
-    return stack_run.machine_runtime(SmBatteryPatrol, options.params_file, thresholds)
+    overrides: dict[str, object] = {name: float(getattr(options, name))
+                                    for name in ("low_threshold", "charged_threshold")
+                                    if getattr(options, name) is not None}
+    if options.recharge:
+        overrides["recharge"] = options.recharge
+    return stack_run.machine_runtime(SmBatteryPatrol, options.params_file, overrides)
 
 
 def run_patrol(options: argparse.Namespace, session: stack_run.StackSession, runtime: SmaccRuntime) -> int:
@@ -101,6 +125,8 @@ def run_patrol(options: argparse.Namespace, session: stack_run.StackSession, run
         sm = runtime.sm
         visits = sm.get_global_sm_data(VISITS_KEY, [])
         say(f"[patrol] visited: {' -> '.join(visits)}")
+        if options.recharge == "dock":  # a line of its own: tools parse the next one
+            say(f"[patrol] dockings {len(sm.get_global_sm_data(DOCKINGS_KEY, []))}")
         say(f"[patrol] rounds {sm.get_global_sm_data(CYCLES_KEY, 0)}, recharges "
             f"{len(sm.get_global_sm_data(RECHARGES_KEY, []))}, sim {stack_run.mission_sim_s(runtime):.1f} s, "
             f"wall {time.monotonic() - wall_start:.1f} s")

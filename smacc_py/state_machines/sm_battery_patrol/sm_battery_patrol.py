@@ -13,6 +13,7 @@ from smacc_py.state_machines.sm_battery_patrol.orthogonals import OrBattery, OrN
 
 Pose = tuple[float, float, float]
 LOCATION_NAMES = ("location1", "location2", "location3", "location4", "station")
+RECHARGE_MODES = ("station", "dock")
 
 
 @dataclass(frozen=True)
@@ -27,6 +28,9 @@ class SmBatteryPatrolParams:
         low_threshold: a reading at or below it leaves the patrol for MsRecharge.
         charged_threshold: a reading at or above it, while parked, resumes the patrol.
         charge_timeout: sim s of charging without reaching the threshold before re-docking.
+        recharge: ``station`` (drive to ``station`` and wait there, the seed's way) or ``dock`` (Nav2's
+            DockRobot at ``dock_id``, charge, UndockRobot; needs a docking_server and a world with a dock).
+        dock_id: the docking server's dock (its ``docks`` parameter) for ``recharge: dock``.
     """
 
     initial_pose: Pose = (-2.0, -0.5, 0.0)
@@ -39,6 +43,8 @@ class SmBatteryPatrolParams:
     low_threshold: float = 0.2
     charged_threshold: float = 0.95
     charge_timeout: float = 180.0
+    recharge: str = "station"
+    dock_id: str = "home_dock"
 
     def __post_init__(self) -> None:
         for name in ("initial_pose", *LOCATION_NAMES):
@@ -49,6 +55,11 @@ class SmBatteryPatrolParams:
         if not 0.0 <= self.low_threshold < self.charged_threshold <= 1.0:
             raise ValueError("SmBatteryPatrolParams: need 0 <= low_threshold < charged_threshold <= 1, got "
                              f"{self.low_threshold} and {self.charged_threshold}")
+        if self.recharge not in RECHARGE_MODES:
+            raise ValueError(f"SmBatteryPatrolParams.recharge must be one of {', '.join(RECHARGE_MODES)}, "
+                             f"got {self.recharge!r}")
+        if self.recharge == "dock" and not self.dock_id:
+            raise ValueError("SmBatteryPatrolParams.dock_id must name a dock when recharge is 'dock'")
         if not self.charge_timeout > 0.0:
             raise ValueError(f"SmBatteryPatrolParams.charge_timeout must be > 0 s, got {self.charge_timeout}")
 

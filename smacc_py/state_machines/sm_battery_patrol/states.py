@@ -4,8 +4,17 @@
     SsPatrol ──EvBatteryLow (SrConditional on EvBatteryState)──▶ MsRecharge [StiGoToStation → StiCharge]
     StiCharge ──EvBatteryCharged (SrConditional)──▶ History(SsPatrol): the interrupted location again
 
+With the parameter ``recharge: dock`` the same low reading posts EvBatteryLowDock instead, and the
+robot recharges as a TurtleBot4 does, on Nav2's docking_server:
+
+    SsPatrol ──EvBatteryLowDock──▶ MsDockRecharge [StiDock → StiChargeDocked → StiUndock]
+    StiUndock ──EvCbSuccess[CbUndockRobot]──▶ History(SsPatrol)
+
 A failed navigation goal retries the same location (RETRY); charging that does not reach the
-threshold within ``charge_timeout`` s re-docks (StiCharge → StiGoToStation, RETRY).
+threshold within ``charge_timeout`` s re-docks (StiCharge → StiGoToStation, RETRY; on a dock:
+StiChargeDocked → StiUndock, RETRY, and the still low battery docks again). A failed DockRobot or
+UndockRobot goal is sent again (RETRY): the docking server has stopped the robot and tried its own
+``max_retries`` first.
 """
 
 from __future__ import annotations
@@ -22,7 +31,7 @@ from smacc_py.clients.cl_battery import (
     is_charged,
     is_low,
 )
-from smacc_py.clients.cl_nav2z import CbNavigateGlobalPosition, CbSetInitialPose
+from smacc_py.clients.cl_nav2z import CbDockRobot, CbNavigateGlobalPosition, CbSetInitialPose, CbUndockRobot
 from smacc_py.clients.cl_ros2_timer import CbTimerCountdownOnce
 from smacc_py.core import (
     ABORT,
@@ -48,6 +57,7 @@ log = logging.getLogger("sm_battery_patrol")
 VISITS_KEY = "visits"  # global data: list of location names reached, in order
 CYCLES_KEY = "patrol_cycles"  # global data: completed location1..4 rounds
 RECHARGES_KEY = "recharges"
+DOCKINGS_KEY = "dockings"  # global data: sim times (s) of the successful DockRobot goals
 BATTERY_READING: type[SmaccEvent] = EvBatteryState[ClBattery, OrBattery]
 
 
@@ -65,6 +75,14 @@ class LOW_BATTERY(ABORT):  # noqa: N801  (tag name shown in introspection)
 
 class RESUME(SUCCESS):
     """Charged: resume the patrol where it was interrupted (deep history)."""
+
+
+class CHARGED(SUCCESS):
+    """Charged on the dock: undock."""
+
+
+class EvBatteryLowDock(SmaccEvent):
+    """The battery ran low while the machine recharges on a dock (``recharge: dock``)."""
 
 
 def _sm(state: SmaccState) -> SmBatteryPatrol:
@@ -101,11 +119,16 @@ class SsPatrol(SmaccState):
     """Visit location1..4 forever; a low battery reading leaves for MsRecharge."""
 
     inner_initial_state = "StiGoToLocation1"
-    reactions = [Transition(EvBatteryLow, "MsRecharge", LOW_BATTERY)]
+    reactions = [Transition(EvBatteryLow, "MsRecharge", LOW_BATTERY),
+                 Transition(EvBatteryLowDock, "MsDockRecharge", LOW_BATTERY)]
 
     @classmethod
     def static_configure(cls) -> None:
         cls.static_create_state_reactor(SrConditional, EvBatteryLow, [BATTERY_READING], is_low)
+
+    def runtime_configure(self) -> None:
+        if _sm(self).config.recharge == "dock":  # the low reading leads to the docking mode instead
+            self.get_state_reactor(SrConditional).output_event = EvBatteryLowDock
 
 
 class _GoTo(SmaccState):
@@ -195,3 +218,75 @@ class StiCharge(SmaccState, parent=MsRecharge):
     def on_exit_RESUME(self) -> None:
         _record(self, RECHARGES_KEY, self.sm.now())
         log.info("charged: resuming the patrol")
+
+
+class MsDockRecharge(SmaccState):
+    """Recharge mode on a charging dock (``recharge: dock``): dock, charge, undock."""
+
+    inner_initial_state = "StiDock"
+
+    def on_entry(self) -> None:
+        log.warning("battery low: recharging on dock %s", _sm(self).config.dock_id)
+
+
+class StiDock(SmaccState, parent=MsDockRecharge):
+    """DockRobot at the machine's ``dock_id``; the docking server navigates to its staging pose."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbDockRobot, OrNavigation], "StiChargeDocked", NEXT),
+        Transition(EvCbFailure[CbDockRobot, OrNavigation], "StiDock", RETRY),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbDockRobot, "dock")
+
+    def runtime_configure(self) -> None:
+        self.get_client_behavior(OrNavigation, CbDockRobot).dock_id = _sm(self).config.dock_id
+
+    def on_exit_NEXT(self) -> None:
+        _record(self, DOCKINGS_KEY, self.sm.now())
+        log.info("docked at %s", _sm(self).config.dock_id)
+
+    def on_exit_RETRY(self) -> None:
+        log.warning("docking failed (docking_server's log says why): docking again")
+
+
+class StiChargeDocked(SmaccState, parent=MsDockRecharge):
+    """Wait on the dock until a reading reaches the charged threshold; then undock."""
+
+    reactions = [
+        Transition(EvBatteryCharged, "StiUndock", CHARGED),
+        Transition(EvTimer[CbTimerCountdownOnce, OrTimer], "StiUndock", RETRY),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrTimer, CbTimerCountdownOnce, 180.0)
+        cls.static_create_state_reactor(SrConditional, EvBatteryCharged, [BATTERY_READING], is_charged)
+
+    def runtime_configure(self) -> None:
+        self.get_client_behavior(OrTimer, CbTimerCountdownOnce).duration_s = _sm(self).config.charge_timeout
+
+    def on_exit_CHARGED(self) -> None:
+        _record(self, RECHARGES_KEY, self.sm.now())
+
+    def on_exit_RETRY(self) -> None:
+        log.warning("not charged within charge_timeout: undocking (the low battery docks it again)")
+
+
+class StiUndock(SmaccState, parent=MsDockRecharge):
+    """UndockRobot back to the staging pose, then resume the patrol where it was interrupted (a
+    charging timeout resumes it too: the next low reading docks again)."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbUndockRobot, OrNavigation], History(SsPatrol), RESUME),
+        Transition(EvCbFailure[CbUndockRobot, OrNavigation], "StiUndock", RETRY),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbUndockRobot)
+
+    def on_exit_RESUME(self) -> None:
+        log.info("undocked: resuming the patrol")

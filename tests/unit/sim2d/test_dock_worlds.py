@@ -82,10 +82,18 @@ def test_shipped_docks_have_a_clear_straight_approach(world_name: str, robot: Ro
     _approach_is_clear(world_name, robot)
 
 
-def test_turtlebot3_world_dock_stages_at_the_seed_station() -> None:
+def test_turtlebot3_world_dock_stages_with_room_to_spare() -> None:
+    """The waffle can stand anywhere within 0.3 m of the staging pose, at any heading, touching nothing:
+    a staging navigation ending within the planner's goal tolerance (0.25 m) leaves the robot clear,
+    and it may turn there (the dock's earlier staging pose lay 0.02 m from a pillar)."""
     (dock,) = load_world("turtlebot3_world").docks
+    world = load_world("turtlebot3_world")
+    model = CollisionModel(world.geometry.with_polygons((dock.body(WAFFLE),)), WAFFLE, CollisionParams())
     staging = dock.staging_pose()
-    assert math.hypot(staging.x + 1.37, staging.y + 0.82) < 0.01
+    for bearing in np.linspace(-math.pi, math.pi, 16, endpoint=False):
+        for yaw in np.linspace(-math.pi, math.pi, 12, endpoint=False):
+            pose = Pose2D(staging.x + 0.3 * math.cos(bearing), staging.y + 0.3 * math.sin(bearing), yaw)
+            assert not model.overlaps(pose), f"the waffle touches at {pose}"
 
 
 def test_depot_dock_is_near_the_spawn() -> None:
