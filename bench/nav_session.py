@@ -126,10 +126,15 @@ class Stack:
 
     def __init__(self, world: str, robot: str, params: Path, rtf: str, lockstep: bool,
                  client: str = "bench_navigation", extra: Sequence[str] = ()) -> None:
-        """``world``: a sim2d world name or file; ``extra``: more nav-bringup options (``--map``)."""
+        """``world``: a sim2d world name or file; ``extra``: more nav-bringup options (``--map``).
+
+        The processes log to artifacts/logs/<client>/ (unless ``extra`` names a ``--log-dir``): two
+        benchmarks running at once would otherwise write over each other's artifacts/logs/sim2d.log.
+        """
+        logs = [] if "--log-dir" in extra else ["--log-dir", str(REPO / "artifacts" / "logs" / client)]
         self.command = [sys.executable, "-m", "nav_stack.ros.bringup", "--world", world, "--robot", robot,
                         "--rtf", rtf, "--params", str(params), *([] if lockstep else ["--no-lockstep"]),
-                        *extra]
+                        *logs, *extra]
         self.lockstep = lockstep
         self.client = client
         self.process: subprocess.Popen[str] | None = None
