@@ -34,18 +34,16 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.core.control import (
-    FINAL_TURN_PROGRESS,
     CircleFootprint,
     ControllerError,
     ControllerErrorCode,
     ControllerPlugins,
     CostGrid,
     InvalidController,
-    NoValidControl,
-    PathHandler,
     PolygonFootprint,
     Twist2D,
 )
+from nav_stack.core.control.follow_path import Action, CycleInputs, Decision, PathFollowing, Plugins
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
 from nav_stack.ros.conversions import path_from_array, path_to_array
@@ -98,15 +96,13 @@ class ControllerServerParams:
 
 
 class _PathRun(GoalRun):
-    """A FollowPath goal and the plugins and path state that steer it."""
+    """A FollowPath goal: its action handle and result, and its path-following state (set once the
+    plugins and the path are known to be valid)."""
 
-    def __init__(self, handle: Any, ids: tuple[str, str, str]) -> None:
+    def __init__(self, handle: Any) -> None:
         super().__init__(handle, FollowPath.Result())
-        self.ids = ids
-        self.handler = PathHandler()
         self.frame = handle.request.path.header.frame_id
-        self.last_valid = -math.inf
-        self.turning_at_goal = False  # xy of the goal reached: only the final rotation remains
+        self.following: PathFollowing | None = None
 
 
 class ControllerServer(NavLifecycleNode):
@@ -195,30 +191,31 @@ class ControllerServer(NavLifecycleNode):
         ids = (controller_sel.resolve(goal.controller_id, p.controller_plugins[0]),
                checker_sel.resolve(goal.goal_checker_id, p.goal_checker_plugins[0]),
                goal.progress_checker_id or p.progress_checker_plugins[0])
-        run = _PathRun(handle, ids)
+        run = _PathRun(handle)
         try:
-            controller, checker, progress = self._plugins(ids)
-            run.handler.set_plan(path_to_array(goal.path))
+            plugins = self._plugins(ids)
+            run.following = following = PathFollowing(ids, path_to_array(goal.path))
         except ControllerError as error:
             run.finish(Outcome.ABORTED, error.code, error.message)
             return await run.wait()
         old = self._current
-        seamless = old is not None and not old.finished and old.ids[0] == ids[0]
+        previous = old.following if old is not None and not old.finished else None
+        seamless = previous is not None and previous.ids[0] == ids[0]
         if old is not None:
             old.finish(Outcome.ABORTED, Code.NONE, "preempted by a newer goal")
-        if seamless:
-            checker.reset()
-            run.last_valid = old.last_valid  # type: ignore[union-attr]
-            run.turning_at_goal = old.turning_at_goal  # type: ignore[union-attr]
+        if seamless and previous is not None:
+            plugins.goal_checker.reset()
+            following.continue_from(previous)
         else:
-            for plugin in (controller, checker, progress, self._response):
+            for plugin in (plugins.controller, plugins.goal_checker, plugins.progress_checker,
+                           self._response):
                 plugin.reset()
         self._current = run
         self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
                                + (" (path updated)" if seamless else ""))
         return await run.wait()
 
-    def _plugins(self, ids: tuple[str, str, str]) -> tuple[Any, Any, Any]:
+    def _plugins(self, ids: tuple[str, str, str]) -> Plugins:
         sets: tuple[Mapping[str, Any], ...] = (
             self.plugins.controllers, self.plugins.goal_checkers, self.plugins.progress_checkers
         )
@@ -226,7 +223,7 @@ class ControllerServer(NavLifecycleNode):
                                             strict=True):
             if plugin_id not in plugins:
                 raise InvalidController(f"{kind} id '{plugin_id}' is not one of {sorted(plugins)}")
-        return tuple(s[i] for s, i in zip(sets, ids, strict=True))  # type: ignore[return-value]
+        return Plugins(*(s[i] for s, i in zip(sets, ids, strict=True)))
 
     def _cancel(self, handle: Any) -> CancelResponse:
         run = self._current
@@ -263,62 +260,46 @@ class ControllerServer(NavLifecycleNode):
         self._current = None
 
     def _control(self, run: _PathRun) -> None:
+        """Look up what the cycle needs, let the goal's PathFollowing decide, and apply the decision."""
+        following = run.following
+        assert following is not None
         snap = self.costmap_node.snapshot()
         frames = self.costmap_node.frames
         cycle_ns = nominal_call_ns(self, self._timer)  # the cycle's slot on the timer's grid
         now = cycle_ns * 1e-9
-        if run.last_valid == -math.inf:
-            run.last_valid = now
         if snap is None or frames is None or not self.costmap_node.current:
-            if now - run.last_valid > self.params.costmap_update_timeout:
-                raise ControllerError(
-                    "the local costmap has no data (no scan or no robot pose)" if snap is None
-                    else "the local costmap has had no scan since it was cleared")
-            self._cmd.stop()  # never drive on a grid that may lack the obstacles around the robot
-            return
-        controller, checker, progress = self._plugins(run.ids)
-        local_frame = self.costmap_node.global_frame
-        robot = frames.robot_pose(run.frame)
-        velocity = self._velocity
-        if checker.is_goal_reached(robot, run.handler.goal, velocity):
-            self.get_logger().info(f"goal {tuple(round(v, 3) for v in run.handler.goal)} reached at "
-                                   f"{tuple(round(v, 3) for v in robot)} ({run.frame})")
+            decision = following.without_costmap(now, snap is None, self.params.costmap_update_timeout)
+        else:
+            local_frame = self.costmap_node.global_frame
+            cycle = CycleInputs(now, frames.robot_pose(run.frame), frames.robot_pose(local_frame),
+                                frames.frame_pose(local_frame, run.frame), self._velocity, CostGrid(*snap))
+            decision = following.step(cycle, self._plugins(following.ids), self.params.failure_tolerance,
+                                      self._response.stillness_note)
+        if decision.action is Action.HOLD:
+            self._cmd.stop()
+        elif decision.action is Action.SUCCEED:
+            self.get_logger().info(f"goal {tuple(round(v, 3) for v in following.handler.goal)} reached at "
+                                   f"{tuple(round(v, 3) for v in cycle.robot)} ({run.frame})")
             self._end(run, Outcome.SUCCEEDED, Code.NONE, "")
-            return
-        if checker.xy_reached and not run.turning_at_goal:
-            run.turning_at_goal = True
-            progress.reset()  # the final rotation gets a fresh window, in which turning is progress
-        if not progress.check(robot, now, turning=run.turning_at_goal):
-            radius = progress.params.required_movement_radius
-            moved = (f"turned less than {FINAL_TURN_PROGRESS} rad toward the goal heading"
-                     if run.turning_at_goal else f"moved less than {radius} m")
-            self._end(run, Outcome.ABORTED, Code.FAILED_TO_MAKE_PROGRESS,
-                      f"the robot {moved} in {progress.params.movement_time_allowance} s"
-                      + self._response.stillness_note())
-            return
-        grid = CostGrid(*snap)
-        local_path = run.handler.local_path(robot, frames.frame_pose(local_frame, run.frame), grid)
-        try:
-            cmd = controller.compute_velocity(frames.robot_pose(local_frame), velocity, local_path, grid)
-            run.last_valid = now
-        except NoValidControl as error:
-            tolerance = self.params.failure_tolerance
-            if tolerance == 0.0:
-                raise
-            cmd = Twist2D(0.0, 0.0)
-            if tolerance != -1.0 and now - run.last_valid > tolerance:
-                self._end(run, Outcome.ABORTED, Code.PATIENCE_EXCEEDED,
-                          f"no valid command for {tolerance} s: {error.message}")
-                return
+        elif decision.action is Action.ABORT:
+            self._end(run, Outcome.ABORTED, decision.code, decision.message)
+        else:
+            self._drive(run, decision, cycle_ns)
+
+    def _drive(self, run: _PathRun, decision: Decision, cycle_ns: int) -> None:
+        """Publish a DRIVE decision's command, the controller's trajectory and the goal's feedback."""
+        cmd = decision.cmd
         self._response.check(cmd, self._velocity, self._now())  # odometry is timed at arrival, by _now
         self._cmd.publish(cmd.vx, cmd.wz, cycle_ns)
+        controller = self.plugins.controllers[run.following.ids[0]]  # type: ignore[union-attr]
         trajectory = getattr(controller, "last_trajectory", None)
         if trajectory is not None and len(trajectory):
+            local_frame = self.costmap_node.global_frame
             stamp = self.get_clock().now().to_msg()
             self._pub_local_plan.publish(path_from_array(trajectory, local_frame, stamp))
             self._mppi_visualization.publish(controller, local_frame, stamp)
         feedback = FollowPath.Feedback()
-        feedback.distance_to_goal = float(run.handler.distance_to_goal(robot))
+        feedback.distance_to_goal = decision.distance_to_goal
         feedback.speed = float(self._speed)
         run.handle.publish_feedback(feedback)
 
