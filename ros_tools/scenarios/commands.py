@@ -125,12 +125,15 @@ def _placement(scenario: Scenario) -> list[str]:
 
 
 def _sim_overlay(scenario: Scenario, base: Path | None) -> dict[str, Any] | None:
-    """sim2d parameters over config/sim2d.yaml: ``base``'s, plus a battery event's initial charge."""
+    """sim2d parameters over config/sim2d.yaml: ``base``'s, plus a battery event's initial charge and the
+    scenario's seed."""
     overlay: dict[str, Any] = yaml.safe_load(base.read_text(encoding="utf-8")) if base is not None else {}
     charges = [event.value for event in scenario.events if event.kind == "battery"]
     if charges:
         params = overlay.setdefault("sim2d", {}).setdefault("ros__parameters", {})
         params.setdefault("battery", {})["initial_charge"] = float(charges[-1])
+    if scenario.seed is not None:
+        overlay.setdefault("sim2d", {}).setdefault("ros__parameters", {})["seed"] = scenario.seed
     return overlay or None
 
 

@@ -1,29 +1,29 @@
 """Apply a scenario's events at their sim times: a small node that watches /clock and acts on the world.
 
-Events (values as in the scenario file; each becomes one message to sim2d, or one signal):
+Events (values as in the scenario file; ros_tools.scenarios.schema lists them):
 
-* ``kidnap`` [x, y, yaw]: a PoseStamped on ``/sim2d/teleport`` (the robot moves; odometry and AMCL
-  do not know);
-* ``lidar_dropout`` s: a Float64 on ``/sim2d/lidar_dropout`` (every beam reads +inf for that much
-  sim time: sim2d.core.disturbances says why that is the failure modelled);
-* ``obstacle`` [x, y, radius]: a CYLINDER Marker on ``/sim2d/spawn_obstacle`` (map frame, m);
-* ``kill_navigation``: SIGKILL of the process running bt_navigator and the controller, the lockstep
-  participant ``nav2`` (or ``navigation``) whose pid it read on /lockstep/progress
-  (ros_tools.scenarios.navigation_kill: why there, and the guard). The injector does it, not the
-  worker, because only the injector follows sim time. nav-bringup then respawns the process (its
-  ``use_respawn``; with ``--no-respawn`` the launch ends and the mission with STACK).
+* the sim2d requests (``kidnap``, ``lidar_dropout``, ``obstacle``, ``obstacle_on_path``, ``topic_loss``,
+  ``odom_slip``, ``clock_pause``): one message or service call each, ros_tools.scenarios.sim_events;
+* ``kill_<process>``: SIGKILL, ``freeze_<process>``: SIGSTOP then SIGCONT after the event's wall
+  seconds, of the navigation or localization process (the lockstep participant whose pid it read on
+  /lockstep/progress) or of the simulator (found in the process table), always a process of this
+  scenario (ros_tools.scenarios.process_faults: which process, and the guard). The injector does it,
+  not the worker, because only the injector follows sim time. nav-bringup then respawns a killed node
+  process (its ``use_respawn``; with ``--no-respawn`` the launch ends and the mission with STACK); a
+  killed simulator ends the launch at once, naming it.
 
-It is a lockstep participant (role ``scenario_events``) that reports only once every publisher it needs
-has matched the simulator's subscription and, for ``kill_navigation``, once it has heard the
-navigation process's pid; the farm also names the role in nav-bringup's
-``--participant`` list, so the simulator does not step before the injector is there and never runs
-more than one lockstep lead (0.05 s) past an event's time. An event waits while its channel is not
-ready (no subscriber yet, no navigation pid heard yet), so none is lost. It stays up after its last
-event until the worker stops it: a process that exits right after publishing may take the message
-(and its lockstep leave) down with it, and the simulator would then wait 5 s wall for the silent
-participant.
+It is a lockstep participant (role ``scenario_events``) that reports only once every channel it needs
+is ready (every publisher matched by the simulator's subscription, the pause service found, the pid of
+every process it targets heard); the farm also names the role in nav-bringup's ``--participant``
+list, so the simulator does not step before the injector is there and never runs more than one
+lockstep lead (0.05 s) past an event's time. An event waits while its channel is not ready, so none
+is lost. It stays up after its last event until the worker stops it: a process that exits right
+after publishing may take the message (and its lockstep leave) down with it, and the simulator would
+then wait 5 s wall for the silent participant. A process it froze is continued before it exits.
 
-Each applied event is printed as ``applied <kind> <value> at t=<sim s>`` (the worker keeps these lines).
+Each applied event is printed as ``applied <kind> <what> at t=<sim s>`` (the worker keeps these lines
+for the run report's ``events_applied``); one that cannot be applied as ``injector: <kind> at t=...
+not applied: <why>``.
 
 Usage: ``python -m ros_tools.scenarios.injector '<json list of {"at": s, "<kind>": value}>'``.
 """
@@ -31,48 +31,42 @@ Usage: ``python -m ros_tools.scenarios.injector '<json list of {"at": s, "<kind>
 from __future__ import annotations
 
 import json
-import math
 import os
+import signal
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
-from ros_tools.scenarios.navigation_kill import kill_navigation, navigation_pid
+from ros_tools.scenarios.process_faults import FreezeBook, role_pid, send, simulator_pid, target_of
+from ros_tools.scenarios.sim_events import SIM_EVENTS, Applier, sim_applier
 
-#: sim2d's topics (sim2d.ros.world_inputs, resolved in the root namespace)
-TELEPORT_TOPIC = "/sim2d/teleport"
-LIDAR_DROPOUT_TOPIC = "/sim2d/lidar_dropout"
-SPAWN_OBSTACLE_TOPIC = "/sim2d/spawn_obstacle"
 ROLE = "scenario_events"
-KINDS = ("kidnap", "lidar_dropout", "obstacle", "kill_navigation")
+PROCESS_EVENTS = tuple(f"{action}_{target}" for action in ("kill", "freeze")
+                       for target in ("navigation", "localization", "simulator"))
+KINDS = (*SIM_EVENTS, *PROCESS_EVENTS)
 
 
-def build_node(events: list[dict[str, Any]]) -> Any:
-    """The injector node; ``events`` are applied in order of ``at`` (s of sim time)."""
+def build_node(events: list[dict[str, Any]], book: FreezeBook | None = None) -> Any:
+    """The injector node; ``events`` are applied in order of ``at`` (s of sim time); ``book`` keeps the
+    processes it froze (for the caller to continue at exit)."""
     from rclpy.node import Node
     from rclpy.qos import QoSProfile, ReliabilityPolicy
     from rosgraph_msgs.msg import Clock
-    from std_msgs.msg import Header
 
-    from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC
+    from ros_tools.runtime.waiting import steady_clock
 
     node = Node("scenario_events")
     reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
     pending = sorted(events, key=lambda event: float(event["at"]))
     kinds = {_kind(event) for event in pending}
-    navigation: list[int] = []  # the pid of the navigation process, once a report named it
-    appliers: dict[str, tuple[Callable[[], bool], Callable[[Any, Any], str]]] = {}
-    for kind in kinds - {"kill_navigation"}:
-        appliers[kind] = _publishing(node, kind, reliable)
-    if "kill_navigation" in kinds:
-        def heard(msg: Header) -> None:
-            pid = navigation_pid(msg.frame_id)
-            if pid is not None and not navigation:
-                navigation.append(pid)
-
-        node.create_subscription(Header, PROGRESS_TOPIC, heard, PROGRESS_QOS)
-        appliers["kill_navigation"] = (lambda: bool(navigation),
-                                       lambda _value, _stamp: kill_navigation(navigation[0], os.getppid()))
+    appliers: dict[str, Applier] = {}
+    pids = _ProcessTargets(node, {target_of(kind) for kind in kinds if kind in PROCESS_EVENTS})
+    book = book if book is not None else FreezeBook()
+    for kind in kinds:
+        if kind in SIM_EVENTS:
+            appliers[kind] = sim_applier(node, kind, reliable, steady_clock())
+        else:
+            appliers[kind] = _process_applier(node, kind, pids, book, steady_clock())
 
     def on_clock(msg: Clock) -> None:
         now = msg.clock.sec + msg.clock.nanosec * 1e-9
@@ -84,54 +78,84 @@ def build_node(events: list[dict[str, Any]]) -> Any:
             event = pending.pop(0)
             try:
                 what = apply(event[kind], msg.clock)
-            except OSError as error:  # the process is gone already, or not ours: say so, apply nothing
+            except (OSError, ValueError) as error:  # the process is gone, not ours, or no place: say so
                 print(f"injector: {kind} at t={now:.2f} s not applied: {error}", flush=True)
                 continue
             print(f"applied {kind} {what} at t={now:.2f} s", flush=True)
 
     node.create_subscription(Clock, "/clock", on_clock, reliable)
-    # Every channel, the navigation pid included: an injector that joined before it had heard the
+    # Every channel, the pids included: an injector that joined before it had heard the navigation
     # pid let the simulator run past a kill's time (CI run CN: "at t=5.0" applied at 6.80 s).
     channels_ready = [ready for ready, _ in appliers.values()]
     node.scenario_ready = lambda: all(ready() for ready in channels_ready)  # type: ignore[attr-defined]
     return node
 
 
+class _ProcessTargets:
+    """The pids of the processes the events target: participants from /lockstep/progress (the first
+    live pid heard, replaced once that process is gone: a respawn), the simulator from /proc."""
+
+    def __init__(self, node: Any, targets: set[str]) -> None:
+        from std_msgs.msg import Header
+
+        from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC
+
+        self.ancestor = os.getppid()  # the worker: every target descends from it
+        self._pids: dict[str, int] = {}
+        self._targets = targets
+        if targets - {"simulator"}:
+            node.create_subscription(Header, PROGRESS_TOPIC, self._heard, PROGRESS_QOS)
+
+    def _heard(self, msg: Any) -> None:
+        for target in self._targets - {"simulator"}:
+            pid = role_pid(target, msg.frame_id)
+            if pid is not None and (target not in self._pids or not _alive(self._pids[target])):
+                self._pids[target] = pid
+
+    def pid(self, target: str) -> int | None:
+        if target == "simulator" and target not in self._pids:
+            found = simulator_pid(self.ancestor)
+            if found is not None:
+                self._pids[target] = found
+        return self._pids.get(target)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _process_applier(node: Any, kind: str, pids: _ProcessTargets, book: FreezeBook, steady: Any) -> Applier:
+    """(ready, apply) of kill_<process> / freeze_<process>: ready once the target's pid is known."""
+    target = target_of(kind)
+
+    def apply(value: Any, _stamp: Any) -> str:
+        pid = pids.pid(target)
+        assert pid is not None  # ready() said so
+        if kind.startswith("kill_"):
+            send(pid, signal.SIGKILL, pids.ancestor)
+            return f"pid {pid}"
+        seconds = float(value)
+        book.freeze(pid, pids.ancestor)
+
+        def thaw() -> None:
+            node.destroy_timer(timer)
+            state = "continued" if book.thaw(pid) else "gone before its SIGCONT"
+            print(f"injector: {target} (pid {pid}) {state} after {seconds:g} s wall", flush=True)
+
+        timer = node.create_timer(seconds, thaw, clock=steady)
+        return f"pid {pid} for {seconds:g} s wall"
+
+    return (lambda: pids.pid(target) is not None), apply
+
+
 def _kind(event: dict[str, Any]) -> str:
     return next(key for key in event if key != "at")
-
-
-def _publishing(node: Any, kind: str, qos: Any) -> tuple[Callable[[], bool], Callable[[Any, Any], str]]:
-    """(ready, apply) of an event that is one message to sim2d: ready once sim2d subscribes."""
-    from geometry_msgs.msg import PoseStamped
-    from std_msgs.msg import Float64
-    from visualization_msgs.msg import Marker
-
-    msg_type, topic = {"kidnap": (PoseStamped, TELEPORT_TOPIC), "obstacle": (Marker, SPAWN_OBSTACLE_TOPIC),
-                       "lidar_dropout": (Float64, LIDAR_DROPOUT_TOPIC)}[kind]
-    publisher = node.create_publisher(msg_type, topic, qos)
-
-    def apply(value: Any, stamp: Any) -> str:
-        if kind == "lidar_dropout":
-            publisher.publish(Float64(data=float(value)))
-            return f"{float(value):g} s"
-        numbers = [float(v) for v in value]
-        if kind == "kidnap":
-            x, y, yaw = numbers
-            msg = PoseStamped()
-            msg.pose.position.x, msg.pose.position.y = x, y
-            msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
-        else:
-            x, y, radius = numbers
-            msg = Marker(type=Marker.CYLINDER, action=Marker.ADD)
-            msg.pose.position.x, msg.pose.position.y, msg.pose.orientation.w = x, y, 1.0
-            msg.scale.x = msg.scale.y = 2.0 * radius
-            msg.scale.z = 0.5  # a height for RViz only; sim2d is planar
-        msg.header.frame_id, msg.header.stamp = "map", stamp
-        publisher.publish(msg)
-        return "[" + ", ".join(f"{v:g}" for v in numbers) + "]"
-
-    return (lambda: publisher.get_subscription_count() > 0), apply
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -148,13 +172,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"injector: unsupported events {unsupported} (kinds: {', '.join(KINDS)})", file=sys.stderr)
         return 2
     nodes: list[Any] = []
+    book = FreezeBook()
 
     def build() -> list[Any]:
-        nodes.append(build_node(events))
+        nodes.append(build_node(events, book))
         return nodes
 
-    return run_nodes(build, role=ROLE, rclpy_args=["--ros-args", "-p", "use_sim_time:=true"],
-                     ready=lambda: bool(nodes) and nodes[0].scenario_ready())
+    try:
+        return run_nodes(build, role=ROLE, rclpy_args=["--ros-args", "-p", "use_sim_time:=true"],
+                         ready=lambda: bool(nodes) and nodes[0].scenario_ready())
+    finally:
+        book.thaw_all()  # never leave a process of the run stopped
 
 
 if __name__ == "__main__":

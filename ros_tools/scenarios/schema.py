@@ -17,6 +17,12 @@ File layout (units: m, rad, sim s for ``at``/``max_sim_time``, wall s for ``time
         params: [config/nav2_params.yaml, my_overlay.yaml]  # nav-bringup --params (replace the robot's)
         events: [{at: 8.0, kidnap: [0.5, -1.6, 0.0]}, {at: 12.0, lidar_dropout: 3.0},
                  {at: 15.0, obstacle: [0.5, 0.0, 0.15]}, {at: 30.0, kill_navigation: null}]
+        # also: {obstacle_on_path: {ahead: 1.0, radius: 0.15}} (m along the current /plan),
+        # {topic_loss: {topic: scan, duration: 2.0}} (sim s; scan, odom, tf or battery_state),
+        # {odom_slip: {scale: 1.3, duration: 5.0}}, {clock_pause: 3.0} (wall s),
+        # {kill_<process>: null}, {freeze_<process>: 3.0} (SIGSTOP for wall s, then SIGCONT), where
+        # <process> is navigation, localization (runs the stack in its isolated layout) or simulator
+        seed: 3                                      # sim2d's random streams (lidar noise, odometry drift)
         expect: {result: SUCCESS, final_state: StFinalState, max_sim_time: 90, max_collisions: 0,
                  min_clearance: 0.05}
         sweep: {start: [[-2.0, -0.5, 0.0], [-2.0, 0.5, 0.0]]}   # one scenario per start, name-1, name-2…
@@ -34,6 +40,7 @@ import yaml
 from ros_tools.scenarios.schema_fields import (
     FieldCheck,
     ScenarioError,
+    check_count,
     check_events,
     check_expect,
     check_mission,
@@ -47,7 +54,7 @@ from ros_tools.scenarios.schema_fields import (
 
 #: Keys a scenario (or ``defaults``) may have; anything else is a typo and fails the load.
 SCENARIO_KEYS = ("name", "world", "robot", "start", "mission", "params", "events", "expect", "timeout",
-                 "sweep")
+                 "sweep", "seed")
 DEFAULT_TIMEOUT = 180.0  # wall s the mission may take (its command's --timeout); the farm adds a margin
 __all__ = ["BehaviorTreeMission", "Event", "Expect", "GoalsMission", "Pose2D", "Scenario", "ScenarioError",
            "StateMachineMission", "load_scenarios", "parse_scenarios"]
@@ -101,8 +108,11 @@ class Event:
     """Something done to the world at sim time ``at`` (s since the simulator's first step).
 
     ``kind`` is one of schema_fields.EVENT_KINDS; ``value`` is a Pose2D (kidnap), a charge fraction 0..1
-    (battery), a duration in sim s (lidar_dropout), (x, y, radius) m in the map frame (obstacle) or None
-    (kill_navigation: SIGKILL of the process running bt_navigator and the controller).
+    (battery), a duration in sim s (lidar_dropout), (x, y, radius) m in the map frame (obstacle), a
+    mapping of the fields in schema_fields.EVENT_FIELDS (obstacle_on_path, topic_loss, odom_slip), a
+    duration in wall s (freeze_<process>, clock_pause: sim time stands still meanwhile, so it cannot
+    measure them) or None (kill_<process>: SIGKILL; kill_navigation hits the process running
+    bt_navigator and the controller).
     """
 
     at: float
@@ -149,6 +159,12 @@ class Scenario:
     timeout: float = DEFAULT_TIMEOUT
     source: str = ""
     params: tuple[Path, ...] = ()
+    seed: int | None = None
+
+    @property
+    def isolated(self) -> bool:
+        """Whether the stack must run in nav-bringup's isolated layout (an event targets localization)."""
+        return any(event.kind.endswith("_localization") for event in self.events)
 
 
 def load_scenarios(path: str | Path, config_dir: Path | None = None) -> list[Scenario]:
@@ -226,6 +242,7 @@ def _scenario(check: FieldCheck, raw: dict[str, Any]) -> Scenario:
     expect = Expect(**check_expect(check, raw.get("expect") or {}))
     timeout = check_positive(check, "timeout", raw.get("timeout", DEFAULT_TIMEOUT))
     params = () if raw.get("params") is None else check_params(check, raw["params"])
+    seed = None if raw.get("seed") is None else check_count(check, "seed", raw["seed"], 0)
     return Scenario(name, check_world(check, raw.get("world", "turtlebot3_world")),
                     check_robot(check, raw.get("robot", "waffle")), start, mission, events, expect, timeout,
-                    check.source, params)
+                    check.source, params, seed)

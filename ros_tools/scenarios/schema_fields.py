@@ -23,11 +23,25 @@ CYCLING_MACHINES = ("sm_battery_patrol",)
 ROBOTS = ("waffle", "burger", "tb4")
 #: The mission outcome words (see verdict.Outcome.result).
 RESULTS = ("SUCCESS", "ABORT", "TIMEOUT", "STACK", "ERROR")
+#: The processes a kill_<process> / freeze_<process> event may target. ``localization`` is a process of
+#: its own only in nav-bringup's isolated layout, which a scenario with such an event runs in.
+PROCESSES = ("navigation", "localization", "simulator")
+KILL_EVENTS = tuple(f"kill_{process}" for process in PROCESSES)
+FREEZE_EVENTS = tuple(f"freeze_{process}" for process in PROCESSES)
+#: sim2d's robot outputs a topic_loss may silence (sim2d.core.disturbances.LOSABLE_TOPICS; a unit test
+#: checks the two lists agree: ros_tools never imports sim2d)
+LOSABLE_TOPICS = ("scan", "odom", "tf", "battery_state")
 #: Every event kind the file may name. ``battery`` works at t = 0 only (sim2d's initial charge: sim2d
 #: has no interface to set the charge of a running battery); the others are applied during the run by
 #: the injector (ros_tools.scenarios.injector), each printing one "applied" line that the verdict counts.
-EVENT_KINDS = ("kidnap", "battery", "lidar_dropout", "obstacle", "kill_navigation")
-INJECTED_EVENTS = ("kidnap", "lidar_dropout", "obstacle", "kill_navigation")
+INJECTED_EVENTS = ("kidnap", "lidar_dropout", "obstacle", "obstacle_on_path", "topic_loss", "odom_slip",
+                   "clock_pause", *KILL_EVENTS, *FREEZE_EVENTS)
+EVENT_KINDS = ("battery", *INJECTED_EVENTS)
+#: The fields of the events whose value is a mapping, each with its check: "positive" (> 0), "scale"
+#: (>= 0) or "topic" (one of LOSABLE_TOPICS).
+EVENT_FIELDS = {"topic_loss": {"topic": "topic", "duration": "positive"},
+                "odom_slip": {"scale": "scale", "duration": "positive"},
+                "obstacle_on_path": {"ahead": "positive", "radius": "positive"}}
 EXPECT_KEYS = ("result", "final_state", "tag", "result_code", "max_sim_time", "max_collisions",
                "max_localization_error", "min_clearance")
 MISSION_KINDS = ("state_machine", "goals", "behavior_tree")
@@ -238,9 +252,36 @@ def _event_value(check: FieldCheck, where: str, kind: str, value: object, at: fl
             check.fail(where, "expected [x, y, radius] (m, map frame)", value)
         x, y = (check_number(check, f"{where}[{i}]", v) for i, v in enumerate(value[:2]))
         return (x, y, check_positive(check, f"{where}[2]", value[2]))
-    if value not in (None, True):  # kill_navigation
-        check.fail(where, "takes no value", value, "write {at: <sim s>, kill_navigation: null}")
+    if kind in FREEZE_EVENTS or kind == "clock_pause":  # wall s: a frozen process or clock stops sim time
+        return check_positive(check, where, value)
+    if kind in EVENT_FIELDS:
+        return _event_fields(check, where, kind, value)
+    if value not in (None, True):  # kill_<process>
+        check.fail(where, "takes no value", value, f"write {{at: <sim s>, {kind}: null}}")
     return None
+
+
+def _event_fields(check: FieldCheck, where: str, kind: str, value: object) -> dict[str, Any]:
+    """A mapping event (EVENT_FIELDS): every field present, each checked."""
+    fields = EVENT_FIELDS[kind]
+    shape = "{" + ", ".join(fields) + "}"
+    if not isinstance(value, dict) or set(value) != set(fields):
+        check.fail(where, f"expected {shape}", value)
+    clean: dict[str, Any] = {}
+    for name, rule in fields.items():
+        item = value[name]
+        if rule == "topic":
+            if item not in LOSABLE_TOPICS:
+                check.fail(f"{where}.{name}", "unknown topic", item,
+                           f"expected one of {', '.join(LOSABLE_TOPICS)}")
+            clean[name] = item
+        elif rule == "scale":
+            clean[name] = check_number(check, f"{where}.{name}", item)
+            if clean[name] < 0.0:
+                check.fail(f"{where}.{name}", "expected a scale >= 0 (1: no slip)", item)
+        else:
+            clean[name] = check_positive(check, f"{where}.{name}", item)
+    return clean
 
 
 def check_expect(check: FieldCheck, value: object) -> dict[str, Any]:

@@ -15,11 +15,12 @@ child also gets SIGTERM from the kernel if this process dies (ros_tools.launch's
 from __future__ import annotations
 
 import json
+import os
 import re
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 from ros_tools.launch import Launcher, LaunchError, ProcessSpec
@@ -32,10 +33,13 @@ REPO = Path(__file__).resolve().parents[2]
 READY = r"Nav2 is ready"
 READY_TIMEOUT = 180.0  # wall s for nav-bringup's readiness line
 RESULT_FILE = "result.json"
+LAYOUT_ENV = "NAVSUITE_LAYOUT"  # nav-bringup's default process layout (one-process or isolated)
 APPLIED = re.compile(r"^applied .*")
 #: sim2d's warnings for an event it did not apply ("teleport to <pose> refused: footprint overlaps ...",
 #: "obstacle at (x, y) radius r m refused: it overlaps the robot")
 REFUSED = re.compile(r"(teleport to|obstacle at) .* refused")
+#: nav-bringup's line for a process that died and ends the launch (the simulator, or a respawn given up)
+DIED = re.compile(r"ERROR: .*\bdied\b")
 
 
 def record_spec(mcap: Path) -> ProcessSpec:
@@ -57,8 +61,6 @@ def injector_spec(scenario: Scenario) -> ProcessSpec | None:
 
 def with_participant(plan: commands.RunPlan, role: str) -> commands.RunPlan:
     """The plan with ``role`` among the lockstep participants the simulator waits for at start."""
-    from dataclasses import replace
-
     if plan.stack is not None:
         return replace(plan, stack=[*plan.stack, "--participant", role])
     mission = list(plan.mission)
@@ -80,6 +82,8 @@ def run(scenario: Scenario, artifact_dir: Path) -> Outcome:
     injector = injector_spec(scenario)
     if injector is not None:
         plan = with_participant(plan, "scenario_events")
+    if scenario.isolated:  # localization as a process of its own, for its kill/freeze events
+        os.environ[LAYOUT_ENV] = "isolated"
     launcher = Launcher(output=lambda line: print(line, flush=True), color=False,
                         log_dir=artifact_dir / "logs", show=lambda _line: False)
     deadline = started + scenario.timeout + commands.COMMAND_MARGIN
@@ -127,7 +131,12 @@ def _supervise(plan: commands.RunPlan, launcher: Launcher, extra: list[ProcessSp
         return outcome.tree_facts(lines, mission.returncode), mission.returncode
     if plan.kind == "goals":
         return outcome.goal_facts(lines, mission.returncode), mission.returncode
-    return outcome.machine_facts(lines, mission.returncode), mission.returncode
+    facts = outcome.machine_facts(lines, mission.returncode)
+    if facts.result == "STACK":  # the command's own stack (navsuite-demo's nav-bringup): name the death
+        died = [line.strip() for line in lines if DIED.search(line)]
+        if died:
+            facts = replace(facts, detail=f"{facts.detail}: {died[-1]}")
+    return facts, mission.returncode
 
 
 def _stack_stopped(logs: Path, code: int) -> str:

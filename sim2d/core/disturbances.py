@@ -1,7 +1,8 @@
-"""Faults injected into a running simulation: a lidar that stops returning, an obstacle dropped in.
+"""Faults injected into a running simulation: a lidar that stops returning, an obstacle dropped in,
+wheels that slip (OdometrySlip) and outputs that fall silent (TopicLoss).
 
 Why in the core: a test scenario ("the lidar fails for 3 s", "a box falls onto the path") must
-happen at a sim time and give the same world on every run, so both are pure state advanced by the
+happen at a sim time and give the same world on every run, so all are pure state advanced by the
 simulator's own clock (integer ns of sim time), never by the wall clock or the ROS layer.
 
 Lidar dropout, and what it looks like to Nav2: the sensor keeps publishing at its rate, but every
@@ -69,3 +70,78 @@ class LidarDropout:
     def remaining(self, now_ns: int) -> float:
         """s of sim time until the lidar returns (0 when it is up)."""
         return max(0, self._end_ns - now_ns) * 1e-9 if self.active(now_ns) else 0.0
+
+
+class _Window:
+    """One window [start, end) of sim time (ns); a new one replaces the running one."""
+
+    def __init__(self) -> None:
+        self.start_ns = 0
+        self.end_ns = 0
+
+    def open(self, now_ns: int, duration_s: float, what: str) -> None:
+        if not math.isfinite(duration_s):
+            raise ValueError(f"{what}: duration must be finite seconds, got {duration_s}")
+        self.start_ns, self.end_ns = now_ns, now_ns + max(0, round(duration_s * 1e9))
+
+    def active(self, now_ns: int) -> bool:
+        return self.start_ns <= now_ns < self.end_ns
+
+
+class OdometrySlip:
+    """Wheels that slip: for a window of sim time the odometry integrates ``scale`` times the true motion.
+
+    Why a scale on the increment (translation and rotation alike): a wheel spinning on a wet floor
+    turns more than the robot moves (scale > 1), a robot pushed or sliding on ice moves more than its
+    wheels turn (scale < 1). Either way the odom frame drifts from the truth at a rate the localizer
+    must correct from the scans, which is the fault this models; the random drift of
+    sim2d.core.odometry runs on top of it. A duration <= 0 ends a running slip at once.
+    """
+
+    def __init__(self) -> None:
+        self._window = _Window()
+        self.scale = 1.0
+
+    def start(self, now_ns: int, scale: float, duration_s: float) -> None:
+        """Odometry sees ``scale`` x the motion from ``now_ns`` for ``duration_s`` s of sim time."""
+        if not math.isfinite(scale) or scale < 0.0:
+            raise ValueError(f"odometry slip: scale must be a finite number >= 0, got {scale}")
+        self._window.open(now_ns, duration_s, "odometry slip")
+        self.scale = float(scale)
+
+    def active(self, now_ns: int) -> bool:
+        return self._window.active(now_ns)
+
+    def apply(self, now_ns: int, dx: float, dy: float, dyaw: float) -> tuple[float, float, float]:
+        """The increment (m, m, rad) the odometry integrates at ``now_ns``."""
+        if not self._window.active(now_ns):
+            return dx, dy, dyaw
+        return dx * self.scale, dy * self.scale, dyaw * self.scale
+
+
+#: The simulator's robot outputs a topic loss may silence (sim2d.ros.sim_node's topic names; "tf" is the
+#: odom -> base_footprint transform). Ground truth and /clock are the harness's, not the robot's.
+LOSABLE_TOPICS = ("scan", "odom", "tf", "battery_state")
+
+
+class TopicLoss:
+    """Outputs that publish nothing for a window of sim time: a cable pulled, a driver hung, a network
+    partition. Unlike a lidar dropout (messages keep coming, every beam +inf) nothing arrives, so
+    consumers see stale data: AMCL and the costmaps stop updating, TF goes old. The simulated world
+    runs on; only the messages are lost. A duration <= 0 brings the topic back at once.
+    """
+
+    def __init__(self) -> None:
+        self._windows: dict[str, _Window] = {}
+
+    def start(self, topic: str, now_ns: int, duration_s: float) -> None:
+        """``topic`` (one of LOSABLE_TOPICS) publishes nothing for ``duration_s`` s from ``now_ns``."""
+        if topic not in LOSABLE_TOPICS:
+            known = ", ".join(LOSABLE_TOPICS)
+            raise ValueError(f"topic loss: unknown topic {topic!r}; expected one of {known}")
+        self._windows.setdefault(topic, _Window()).open(now_ns, duration_s, f"topic loss of {topic}")
+
+    def lost(self, topic: str, now_ns: int) -> bool:
+        """True while a message of ``topic`` stamped ``now_ns`` must not be published."""
+        window = self._windows.get(topic)
+        return window is not None and window.active(now_ns)

@@ -18,7 +18,7 @@ import numpy as np
 
 from sim2d.core.battery import Battery, BatteryParams
 from sim2d.core.collision import CollisionModel, CollisionParams
-from sim2d.core.disturbances import DroppedObstacle, LidarDropout
+from sim2d.core.disturbances import DroppedObstacle, LidarDropout, OdometrySlip, TopicLoss
 from sim2d.core.dock import Dock, dock_in_contact
 from sim2d.core.dock_detection import DockDetectionParams, DockDetector, TagDetection
 from sim2d.core.geometry import FloatArray, StaticGeometry, normalize_angle
@@ -88,6 +88,8 @@ class Simulator:
         self.collision_count = 0
         self.collision_events: list[CollisionEvent] = []
         self.dropout = LidarDropout()
+        self.slip = OdometrySlip()
+        self.topic_loss = TopicLoss()
         self.dropped: list[DroppedObstacle] = []
         self.reset()
 
@@ -156,6 +158,14 @@ class Simulator:
         """The lidar returns nothing (+inf on every beam) for ``duration_s`` s of sim time from now."""
         self.dropout.start(self.time_ns, duration_s)
 
+    def slip_odometry(self, scale: float, duration_s: float) -> None:
+        """Odometry integrates ``scale`` x the true motion for ``duration_s`` s of sim time from now."""
+        self.slip.start(self.time_ns, scale, duration_s)
+
+    def lose_topic(self, topic: str, duration_s: float) -> None:
+        """Output ``topic`` (disturbances.LOSABLE_TOPICS) publishes nothing for ``duration_s`` s from now."""
+        self.topic_loss.start(topic, self.time_ns, duration_s)
+
     def step(self) -> None:
         """Advance one physics step: watchdog, limits, swept motion, contacts, odometry, battery."""
         dt = self.params.physics_step
@@ -177,7 +187,8 @@ class Simulator:
                     self.collision_events.append(CollisionEvent(self.time_ns + self.step_ns, *result.contact))
             dx, dy = end.x - start.x, end.y - start.y
             c, s = math.cos(start.yaw), math.sin(start.yaw)
-            self.odometry.update(c * dx + s * dy, -s * dx + c * dy, normalize_angle(end.yaw - start.yaw))
+            self.odometry.update(*self.slip.apply(self.time_ns, c * dx + s * dy, -s * dx + c * dy,
+                                                  normalize_angle(end.yaw - start.yaw)))
             distance = math.hypot(dx, dy)
             self.pose = end
         if (blocked or self.collision.in_contact) and self.collision.update_contact(self.pose, blocked):

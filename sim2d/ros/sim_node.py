@@ -23,6 +23,7 @@ ROS surface (names relative to the node namespace unless absolute):
   sub  cmd_vel (geometry_msgs/Twist, or TwistStamped with enable_stamped_cmd_vel; a stamped command
        takes effect at stamp + stamped_cmd_vel_delay of sim time, sim2d/core/command_schedule.py)
   sub  sim2d/teleport, sim2d/lidar_dropout, sim2d/spawn_obstacle: act on the world (world_inputs.py)
+  sub  sim2d/odometry_slip, sim2d/topic_loss: faults of the robot's outputs (fault_inputs.py)
   sub  /lockstep/progress (std_msgs/Header, only with lockstep.enabled)
   pub  /clock, scan (reliable), odom, /tf, /tf_static (transient local), ground_truth (frame map),
        battery_state, sim2d/collisions (PointStamped per new contact),
@@ -62,6 +63,7 @@ from sim2d.core.simulator import Simulator
 from sim2d.core.world import load_world
 from sim2d.ros import messages
 from sim2d.ros.config import NODE_NAME, SimConfig, build_config, declare_all
+from sim2d.ros.fault_inputs import FaultInputs
 from sim2d.ros.world_inputs import LIDAR_DROPOUT_TOPIC, SPAWN_OBSTACLE_TOPIC, TELEPORT_TOPIC, WorldInputs
 
 __all__ = ["LIDAR_DROPOUT_TOPIC", "SPAWN_OBSTACLE_TOPIC", "TELEPORT_TOPIC", "Sim2dNode"]
@@ -160,6 +162,7 @@ class Sim2dNode(Node):
         self._cmd_type = TwistStamped if cfg.node.enable_stamped_cmd_vel else Twist
         self.create_subscription(self._cmd_type, CMD_VEL_TOPIC, self._on_cmd_vel, RELIABLE_10)
         self.world_inputs = WorldInputs(self, self.sim, RELIABLE_10)
+        self.fault_inputs = FaultInputs(self, self.sim, RELIABLE_10)
         self.create_service(Empty, RESET_SERVICE, self._on_reset)
         self.create_service(SetBool, PAUSE_SERVICE, self._on_pause)
         self._odom = messages.OdometryBuilder(messages.ODOM_FRAME)
@@ -211,11 +214,14 @@ class Sim2dNode(Node):
 
     def _publish_due(self) -> None:
         now, due, sim = self.sim.time_ns, self._due, self.sim
+        lost = sim.topic_loss.lost  # a topic loss event (fault_inputs.py): its messages are not sent
         if now >= due["odom"]:
             odom = sim.odometry
-            self.pub_odom.publish(self._odom.build(now, odom.pose, sim.v, sim.w, odom.variance_trans,
-                                                   odom.variance_rot))
-            self.pub_tf.publish(self._tf.build(now, odom.pose))
+            if not lost(ODOM_TOPIC, now):
+                self.pub_odom.publish(self._odom.build(now, odom.pose, sim.v, sim.w, odom.variance_trans,
+                                                       odom.variance_rot))
+            if not lost("tf", now):
+                self.pub_tf.publish(self._tf.build(now, odom.pose))
             self.pub_truth.publish(self._truth.build(now, sim.pose, sim.v, sim.w, 0.0, 0.0))
             # at the odometry rate, not every physics step, and only for a listener: one evaluation costs
             # about 20 physics steps (bench/bench_clearance.py)
@@ -223,7 +229,9 @@ class Sim2dNode(Node):
                 self.pub_clearance.publish(Float64(data=simulator_clearance(sim)))
             due["odom"] = self._next_due(due["odom"], self._periods["odom"], now)
         if now >= due["scan"]:
-            self.pub_scan.publish(self._scan.build(now, sim.scan()))
+            ranges = sim.scan()  # taken even when lost: the lidar's noise stream stays the same
+            if not lost(SCAN_TOPIC, now):
+                self.pub_scan.publish(self._scan.build(now, ranges))
             due["scan"] = self._next_due(due["scan"], self._periods["scan"], now)
         if self.pub_dock is not None and now >= due["dock"]:
             detection = sim.detect_dock()
@@ -232,7 +240,8 @@ class Sim2dNode(Node):
             due["dock"] = self._next_due(due["dock"], self._periods["dock"], now)
         dock_change = sim.battery.uses_docks and sim.battery.charging != self._charging_reported
         if now >= due["battery"] or dock_change:
-            self.pub_battery.publish(messages.battery_state(now, sim.battery))
+            if not lost(BATTERY_TOPIC, now):
+                self.pub_battery.publish(messages.battery_state(now, sim.battery))
             if dock_change:
                 self._log_dock_change()
             self._charging_reported = sim.battery.charging

@@ -52,9 +52,9 @@ class DockingNav2(MoreNav2):
         self._pending[id(goal)] = scripted
         return scripted[0]
 
-    def result(self, key: str, goal: Any, outcome: GoalOutcome) -> Any:
+    def result(self, key: str, goal: Any, outcome: GoalOutcome, decision: str = "") -> Any:
         if key not in DOCKING_ACTIONS:
-            return super().result(key, goal, outcome)
+            return super().result(key, goal, outcome, decision)
         _, code, message, retries = self._pending.pop(id(goal), ("succeeded", 0, "", 0))
         result = DOCKING_ACTIONS[key].Result()
         result.success = outcome is GoalOutcome.SUCCEEDED

@@ -16,7 +16,8 @@ What the world does:
 * AMCL: each initial pose CpAmcl publishes comes back at once as AMCL's estimate, unless it was sent
   before ``Nav2Script.amcl_silent_until_s`` (machine clock; ``math.inf``: AMCL never answers).
 * actions: a goal ends on the next poll (``sm.update()``). navigate_to_pose takes the next scripted
-  ``navigate`` outcome ("succeeded", "aborted", or "hold": until cancelled); past the script it succeeds
+  ``navigate`` outcome ("succeeded", "aborted", "lost": aborted as when ClNav2Z lost the server, or
+  "hold": until cancelled); past the script it succeeds
   unless the goal lies outside turtlebot3_world's map, which aborts with Nav2's GOAL_OUTSIDE_MAP (204).
   Success puts the robot at the goal, so the pose agrees with what Nav2 reported. Cancelled goals end
   CANCELED.
@@ -55,7 +56,7 @@ from smacc_py.clients.cl_nav2z import (
     CpPlannerSwitcher,
     CpPose,
 )
-from smacc_py.clients.cl_nav2z.client import ACTION_TYPES, NAVIGATE_TO_POSE
+from smacc_py.clients.cl_nav2z.client import ACTION_TYPES, NAVIGATE_TO_POSE, SERVER_LOST, SERVER_LOST_CODE
 from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
 from smacc_py.clients.cl_ros2_timer import ClRos2Timer
 from smacc_py.core import ISmaccUpdatable, SmaccAsyncClientBehavior, SmaccStateMachineBase
@@ -223,12 +224,16 @@ class ScriptedNav2:
         x_min, y_min, x_max, y_max = MAP_BOUNDS
         return "succeeded" if x_min <= x <= x_max and y_min <= y <= y_max else "aborted"
 
-    def result(self, key: str, goal: Any, outcome: GoalOutcome) -> Any:
-        """The action's result message; navigation success moves the robot to the goal."""
+    def result(self, key: str, goal: Any, outcome: GoalOutcome, decision: str = "") -> Any:
+        """The action's result message; navigation success moves the robot to the goal. A "lost" goal
+        ends as ClNav2Z ends one whose server it lost (SERVER_LOST_CODE, "server lost: ...")."""
         result = ACTION_TYPES[key].Result()
         if key != NAVIGATE_TO_POSE:
             return result
-        if outcome is GoalOutcome.SUCCEEDED:
+        if decision == "lost":
+            result.error_code = SERVER_LOST_CODE
+            result.error_msg = f"{SERVER_LOST}: the server died (scripted)"
+        elif outcome is GoalOutcome.SUCCEEDED:
             self.base.teleport(goal_pose(goal))
         elif outcome is GoalOutcome.ABORTED:
             result.error_code, result.error_msg = GOAL_OUTSIDE_MAP, "Goal outside map"

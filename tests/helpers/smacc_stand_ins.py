@@ -104,7 +104,7 @@ class ScriptedActionClient:
                 continue
             else:
                 outcome = GoalOutcome.SUCCEEDED if decision == "succeeded" else GoalOutcome.ABORTED
-            ticket.finish(outcome, self.world.result(self.key, ticket.goal, outcome))
+            ticket.finish(outcome, self.world.result(self.key, ticket.goal, outcome, decision))
             if on_done is not None:
                 on_done(ticket)
         with self._lock:

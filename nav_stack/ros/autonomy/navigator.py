@@ -8,11 +8,17 @@ A request (or its acknowledgement) can be lost while DDS completes a match, unde
 the stack restarts (ros_tools.runtime.actions.send_until_acknowledged says how). A coroutine sends
 the goal again every few seconds until the server answers; before, a lost request left the mission
 "going to location1" until the tree's own timeout.
+
+A server that is lost under an accepted goal (its process died; a respawned bt_navigator does not know
+the goal) ends the goal ABORTED with Nav2's UNKNOWN code (SERVER_LOST_CODE) as soon as
+ros_tools.runtime.action_watch notices it, so GoToPose fails and the tree's own retry or fallback acts
+instead of waiting for ever for a result.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from action_msgs.msg import GoalStatus
@@ -23,11 +29,15 @@ from rclpy.node import Node
 from nav_stack.ros.autonomy.locations import Location
 from nav_stack.ros.autonomy.seed_nodes import NavOutcome
 from nav_stack.ros.conversions import pose_stamped
+from ros_tools.runtime.action_watch import ServerLossWatch
 from ros_tools.runtime.actions import ACK_RETRY_S, Withdrawals, acknowledged
 from ros_tools.runtime.coroutines import spawn
 
 #: copies of a goal sent (ACK_RETRY_S s apart) before the goal is given up as aborted.
 SENDS = 6
+#: the error code of a goal whose server was lost: Nav2's UNKNOWN, bt_navigator's code for its own faults
+SERVER_LOST_CODE = 9000
+Watch = Callable[[Any, Callable[[str], None]], Callable[[], None]]
 
 _STATUS = {
     GoalStatus.STATUS_SUCCEEDED: NavOutcome.SUCCEEDED,
@@ -39,7 +49,9 @@ _STATUS = {
 class RosNavGoal:
     """One goal; fields are written by executor callbacks and read by the tree (under a lock)."""
 
-    def __init__(self) -> None:
+    def __init__(self, watch: Watch | None = None) -> None:
+        self._watch = watch  # ServerLossWatch.watch of the navigator's action
+        self._unwatch: Callable[[], None] | None = None
         self._lock = threading.Lock()
         self._outcome: NavOutcome | None = None
         self._detail = ""
@@ -83,6 +95,12 @@ class RosNavGoal:
         with self._lock:
             if self._outcome is None:
                 self._outcome, self._detail = outcome, detail
+            unwatch, self._unwatch = self._unwatch, None
+        if unwatch is not None:
+            unwatch()
+
+    def _on_server_lost(self, why: str) -> None:
+        self._finish(NavOutcome.ABORTED, f"error_code {SERVER_LOST_CODE}: server lost: {why}")
 
     def _canceled(self) -> bool:
         with self._lock:
@@ -96,6 +114,10 @@ class RosNavGoal:
         with self._lock:
             self._handle = handle
             cancel = self._cancel_requested
+        if self._watch is not None:
+            unwatch = self._watch(handle.goal_id, self._on_server_lost)
+            with self._lock:
+                self._unwatch = unwatch
         handle.get_result_async().add_done_callback(self._on_result)
         if cancel:
             self._send_cancel(handle)
@@ -121,13 +143,14 @@ class RosNavigator:
         self.action_name = action_name
         self.frame = frame
         self._client = ActionClient(node, NavigateToPose, action_name, callback_group=callback_group)
+        self._server_watch = ServerLossWatch(node, NavigateToPose, action_name)
         self._goals: list[RosNavGoal] = []  # sent and not yet ended (or with a cancel in flight)
 
     def server_ready(self) -> bool:
         return bool(self._client.server_is_ready())
 
     def send(self, location: Location) -> RosNavGoal:
-        goal = RosNavGoal()
+        goal = RosNavGoal(self._server_watch.watch)
         stamp = self.node.get_clock().now().to_msg()
         pose = pose_stamped(location.x, location.y, location.theta, self.frame, stamp)
         spawn(self.node, self._send(goal, NavigateToPose.Goal(pose=pose)))

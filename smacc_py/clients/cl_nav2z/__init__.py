@@ -34,7 +34,7 @@ from smacc_py.clients.cl_nav2z.cb_waypoints import (
     CbNavigateNextWaypointUntilReached,
     CbSeekWaypoint,
 )
-from smacc_py.clients.cl_nav2z.client import ClNav2Z
+from smacc_py.clients.cl_nav2z.client import SERVER_LOST_CODE, ClNav2Z, is_server_lost
 from smacc_py.clients.cl_nav2z.cp_amcl import CpAmcl
 from smacc_py.clients.cl_nav2z.cp_costmap_switch import CpCostmapSwitch, StandardLayers
 from smacc_py.clients.cl_nav2z.cp_odom_tracker import CpOdomTracker
@@ -48,6 +48,7 @@ from smacc_py.clients.cl_nav2z.waypoints_event_dispatcher import WaypointEventDi
 from smacc_py.clients.cl_nav2z.waypoints_io import Waypoint
 
 __all__ = [
+    "SERVER_LOST_CODE",
     "CbAbortNavigation",
     "CbAbsoluteRotate",
     "CbDockRobot",
@@ -89,4 +90,5 @@ __all__ = [
     "Waypoint",
     "WaypointEventDispatcher",
     "WorkingMode",
+    "is_server_lost",
 ]

@@ -19,6 +19,7 @@ SMACC2's version is an async behavior whose thread waits for the server. This on
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any, TypeVar
 
 from smacc_py.clients.cl_nav2z.client import ClNav2Z
@@ -38,6 +39,8 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
     record_path: bool = False
     ticket: GoalTicket | None = None
     _waiting: tuple[RosActionClient, str, Any, float, float] | None = None  # action, key, goal, since_s, wall
+    _key: str = ""
+    _unwatch: Callable[[], None] | None = None  # stops the watch of the goal's server
 
     def make_goal(self) -> tuple[str, Any] | None:
         """(action key, goal message), or None when the behavior already posted a failure."""
@@ -66,7 +69,11 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
             hold_lockstep(self.sm, lambda: self._waiting is None or action.server_ready())
 
     def update(self) -> None:
-        """While the server is not discovered: send once it is, or fail after ``server_wait_s``."""
+        """While the server is not discovered: send once it is, or fail after ``server_wait_s``. Once
+        the goal is accepted, watch its server (ClNav2Z.watch_server): a lost server ends the goal."""
+        watch = getattr(self.client, "watch_server", None)  # a test stand-in for ClNav2Z may lack it
+        if watch is not None and self.ticket is not None and self._unwatch is None and not self.ticket.done:
+            self._unwatch = watch(self._key, self.ticket)
         if self._waiting is None:
             return
         action, key, goal, since_s, since_wall = self._waiting
@@ -87,6 +94,7 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
         if tracker is not None:
             tracker.push_path(type(self.state).__name__)
             tracker.set_working_mode(WorkingMode.RECORD_PATH)
+        self._key = key
         self.ticket = self.client.send_goal(key, goal, on_done=self._on_done)
 
     def _stop_recording(self) -> None:
@@ -94,7 +102,13 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
         if tracker is not None:
             tracker.set_working_mode(WorkingMode.IDLE)
 
+    def _stop_watching(self) -> None:
+        unwatch, self._unwatch = self._unwatch, None
+        if unwatch is not None:
+            unwatch()
+
     def _on_done(self, ticket: GoalTicket) -> None:
+        self._stop_watching()
         self._stop_recording()
         if ticket.abandoned:
             return
@@ -110,6 +124,7 @@ class CbNav2ZActionBase(SmaccClientBehavior, ISmaccUpdatable):
 
     def on_exit(self) -> None:
         self._waiting = None
+        self._stop_watching()
         ticket = self.ticket
         if ticket is not None and not ticket.done:
             ticket.abandon()

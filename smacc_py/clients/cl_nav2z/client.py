@@ -20,6 +20,7 @@ its behaviors: a substitute ClNav2Z given to the machine
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
 from typing import Any
 
@@ -30,11 +31,12 @@ from nav2_msgs.action import BackUp, DockRobot, DriveOnHeading, FollowPath, Navi
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from ros_tools.cmd_vel import CmdVelPublisher
+from ros_tools.runtime.action_watch import ServerLossWatch
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.requests import call_service
 from ros_tools.tf import Transform
 from smacc_py.core import ISmaccClient
-from smacc_py.ros.action_client import GoalTicket, RosActionClient
+from smacc_py.ros.action_client import GoalOutcome, GoalTicket, RosActionClient
 from smacc_py.ros.components.cp_action_client import event_posting_callbacks
 from smacc_py.ros.context import ros_context
 
@@ -56,6 +58,12 @@ ACTION_TYPES: dict[str, Any] = {
     DOCK_ROBOT: DockRobot,
     UNDOCK_ROBOT: UndockRobot,
 }
+
+#: The error code of a goal whose server was lost: Nav2's UNKNOWN (bt_navigator's code for a fault of its
+#: own: NavigateToPose's codes 9000-9999) for navigate_to_pose, the action's own UNKNOWN for the others.
+SERVER_LOST_CODE = 9000
+#: error_msg prefix of such a goal's result (a machine's guard tells a lost server by it: is_server_lost)
+SERVER_LOST = "server lost"
 
 #: bond/Status as Nav2's bond library publishes it (reliable; heartbeats at 10 Hz per bond).
 BOND_QOS = QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE)
@@ -82,6 +90,10 @@ class ClNav2Z(ISmaccClient):
             raise ValueError(f"ClNav2Z: unknown action keys {sorted(unknown)}; known: {sorted(ACTION_TYPES)}")
         self.action_names = {key: key for key in ACTION_TYPES} | dict(action_names or {})
         self._clients: dict[str, RosActionClient] = {}
+        self._watches: dict[str, ServerLossWatch] = {}
+        # each goal's once-only done callback, to end it when its server is lost (watch_server)
+        self._enders: weakref.WeakKeyDictionary[GoalTicket, Callable[[GoalTicket], None]] = \
+            weakref.WeakKeyDictionary()
 
     def on_initialize(self) -> None:
         ctx = ros_context(self.sm)
@@ -121,7 +133,41 @@ class ClNav2Z(ISmaccClient):
         """Send a goal to action ``key``; the client posts its EvAction* events (payload ``action``: the key,
         even when ``action_names`` remaps the server), then ``on_done`` runs."""
         done, feedback = event_posting_callbacks(self, key, on_done, on_feedback)
-        return self.action_client(key).send_goal(goal, done, feedback)
+        ended: list[bool] = []
+
+        def once(ticket: GoalTicket) -> None:  # a lost goal's late result must not post a second end
+            if not ended:
+                ended.append(True)
+                done(ticket)
+
+        ticket = self.action_client(key).send_goal(goal, once, feedback)
+        self._enders[ticket] = once
+        return ticket
+
+    def watch_server(self, key: str, ticket: GoalTicket) -> Callable[[], None] | None:
+        """Watch the server of ``ticket``'s accepted goal (ros_tools.runtime.action_watch): if it is lost
+        (its process died, or a respawned server does not know the goal), the goal ends ABORTED with
+        SERVER_LOST_CODE and an error_msg starting with SERVER_LOST, through the same events as a real
+        abort, so the machine's own retry or abort path runs. The function that stops watching; None
+        while the goal has no accepted handle yet."""
+        handle = getattr(ticket, "_handle", None)  # GoalTicket has no public accessor for it yet
+        if handle is None or ticket.done:
+            return None
+        if key not in self._watches:
+            self._watches[key] = ServerLossWatch(self.node, ACTION_TYPES[key], self.action_names[key])
+        return self._watches[key].watch(handle.goal_id, lambda why: self._end_lost(key, ticket, why))
+
+    def _end_lost(self, key: str, ticket: GoalTicket, why: str) -> None:
+        ender = self._enders.get(ticket)
+        if ticket.done or ender is None:
+            return
+        result_type = ACTION_TYPES[key].Result
+        result = result_type()
+        if hasattr(result, "error_code"):
+            code = SERVER_LOST_CODE if key == NAVIGATE_TO_POSE else getattr(result_type, "UNKNOWN", 0)
+            result.error_code, result.error_msg = code, f"{SERVER_LOST}: {why}"
+        ticket.finish(GoalOutcome.ABORTED, result)
+        ender(ticket)
 
     def send_navigation_goal(
         self, pose: PoseStamped, on_done: Callable[[GoalTicket], None] | None = None
@@ -181,3 +227,10 @@ class ClNav2Z(ISmaccClient):
                                                CANCEL_TIMEOUT_S))
         answer.add_done_callback(lambda done: on_answer(
             None if done.result() is None else len(done.result().goals_canceling)))
+
+
+def is_server_lost(event: Any) -> bool:
+    """Whether an EvActionAborted / EvCbFailure says the action server was lost (ClNav2Z.watch_server),
+    for a machine's guard: a lost navigator is worth a retry once the stack is back, a planning
+    failure is not."""
+    return str(getattr(event, "error_msg", "")).startswith(SERVER_LOST)

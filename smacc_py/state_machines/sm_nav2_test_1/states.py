@@ -1,4 +1,11 @@
-"""States of sm_nav2_test_1: the tutorial's reactions and tags, and the Jazzy package's retry count."""
+"""States of sm_nav2_test_1: the tutorial's reactions and tags, and the Jazzy package's retry count.
+
+Beyond the tutorial (issue 45): a navigation goal whose navigator was lost (ClNav2Z's server watch: the
+bt_navigator process died under the goal) goes to StRecoverNavigation<N>, which waits for Nav2's bonds
+to heartbeat again (nav-bringup's respawn brings the stack back) and then drives to the same waypoint
+again, at most MAX_NAVIGATION_RETRIES times per mission. Any other abort (no path, a controller
+failure) still ends the mission on the tutorial's ABORT path.
+"""
 
 from __future__ import annotations
 
@@ -13,6 +20,7 @@ from smacc_py.clients.cl_nav2z import (
     CbSetInitialPose,
     CbWaitNav2Nodes,
     ClNav2Z,
+    is_server_lost,
 )
 from smacc_py.clients.cl_ros2_timer import CbTimerCountdownOnce
 from smacc_py.core import (
@@ -48,8 +56,16 @@ class NEXT(SUCCESS):
     """The operator pressed N."""
 
 
+class NAVIGATOR_LOST(ABORT):  # noqa: N801  (a tag, named like SMACC2's)
+    """The navigation server was lost under the goal: the mission retries once the stack is back."""
+
+
 class EvMaxRetriesExceeded(SmaccEvent):
-    """StSetInitialPose ran out of localization attempts."""
+    """StSetInitialPose ran out of localization attempts, or StRecoverNavigation<N> of navigation retries."""
+
+
+MAX_NAVIGATION_RETRIES = 2
+NAVIGATION_RETRY_KEY = "navigation_retry_count"
 
 
 def _config(state: SmaccState) -> SmNav2Test1:
@@ -129,6 +145,8 @@ class StNavigateToWaypoint1(SmaccState):
 
     reactions = [
         Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StRotate", SUCCESS),
+        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StRecoverNavigation1", NAVIGATOR_LOST,
+                   guard=is_server_lost),
         Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
     ]
 
@@ -161,6 +179,8 @@ class StNavigateToWaypoint2(SmaccState):
 
     reactions = [
         Transition(EvActionSucceeded[ClNav2Z, OrNavigation], "StFinalState", SUCCESS),
+        Transition(EvActionAborted[ClNav2Z, OrNavigation], "StRecoverNavigation2", NAVIGATOR_LOST,
+                   guard=is_server_lost),
         Transition(EvActionAborted[ClNav2Z, OrNavigation], "StFinalState", ABORT),
     ]
 
@@ -172,6 +192,55 @@ class StNavigateToWaypoint2(SmaccState):
     def runtime_configure(self) -> None:
         behavior = self.get_client_behavior(OrNavigation, CbNavigateGlobalPosition)
         behavior.set_goal(*_config(self).config.waypoint_2)
+
+
+def _count_navigation_retry(state: SmaccState) -> None:
+    """Count one more navigation retry; past MAX_NAVIGATION_RETRIES post EvMaxRetriesExceeded (ABORT)."""
+    retries = state.get_global_sm_data(NAVIGATION_RETRY_KEY, 0) + 1
+    state.set_global_sm_data(NAVIGATION_RETRY_KEY, retries)
+    if retries > MAX_NAVIGATION_RETRIES:
+        state.post_event(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation](
+            reason=f"the navigator was lost {retries} times (at most {MAX_NAVIGATION_RETRIES} retries)"))
+        return
+    log.warning("%s: the navigator was lost under the goal; waiting for Nav2 to be back (retry %d of %d)",
+                type(state).__name__, retries, MAX_NAVIGATION_RETRIES)
+
+
+class StRecoverNavigation1(SmaccState):
+    """Wait for Nav2's bonds (a respawned stack), then drive to waypoint 1 again; ABORT if it does not
+    come back within CbWaitNav2Nodes' timeout or after MAX_NAVIGATION_RETRIES retries."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
+        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+    def runtime_configure(self) -> None:
+        _count_navigation_retry(self)
+
+
+class StRecoverNavigation2(SmaccState):
+    """StRecoverNavigation1 for waypoint 2."""
+
+    reactions = [
+        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint2", SUCCESS),
+        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
+    ]
+
+    @classmethod
+    def static_configure(cls) -> None:
+        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
+        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
+
+    def runtime_configure(self) -> None:
+        _count_navigation_retry(self)
 
 
 class StFinalState(SmaccState):

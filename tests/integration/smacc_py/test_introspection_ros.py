@@ -28,6 +28,8 @@ STATES = [
     "StRotate",
     "StNavigateToWaypoint2",
     "StFinalState",
+    "StRecoverNavigation1",  # beyond the tutorial: a lost navigator is retried (issue 45)
+    "StRecoverNavigation2",
 ]
 
 

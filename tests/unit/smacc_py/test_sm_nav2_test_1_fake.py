@@ -177,3 +177,34 @@ def test_the_machine_is_the_shipped_one_with_stand_in_clients(mission: Callable[
     nav = sm.requires_client(ClNav2Z)
     assert type(nav).__name__ == "ScriptedClNav2Z" and nav.client_type is ClNav2Z
     assert [type(o).__name__ for o in sm.orthogonals] == ["OrTimer", "OrKeyboard", "OrNavigation"]
+
+
+def test_a_lost_navigator_is_retried_once_nav2_is_back(mission: Callable[..., Mission]) -> None:
+    """Issue 45: the server watch ends the goal (9000, "server lost"); StRecoverNavigation1 waits for the
+    bonds of the respawned stack and drives to
+    the same waypoint again; the mission then ends as the nominal one."""
+    sm, world = mission(navigate=("lost",))
+    assert world.drive(sm, _finished(sm))
+    keys = _keys(sm)
+    assert keys[:3] == [*NOMINAL_TRANSITIONS[:2],
+                        ("StNavigateToWaypoint1", "StRecoverNavigation1", "NAVIGATOR_LOST")]
+    assert keys[3] == ("StRecoverNavigation1", "StNavigateToWaypoint1", "SUCCESS")
+    assert keys[4:] == list(NOMINAL_TRANSITIONS[2:])
+    config = SmNav2Test1Params()
+    assert world.navigation_goals(sm) == [pytest.approx(config.waypoint_1)] * 2 + [
+        pytest.approx(config.waypoint_2)]
+
+
+def test_a_navigator_lost_again_and_again_aborts_after_the_retries(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(navigate=("lost",) * 3)
+    assert world.drive(sm, _finished(sm))
+    keys = _keys(sm)
+    assert keys[-1] == ("StRecoverNavigation1", "StFinalState", "ABORT")
+    assert keys.count(("StNavigateToWaypoint1", "StRecoverNavigation1", "NAVIGATOR_LOST")) == 3
+    assert "at most 2 retries" in sm.transition_log[-1].event.reason
+
+
+def test_an_ordinary_abort_is_not_retried(mission: Callable[..., Mission]) -> None:
+    sm, world = mission(navigate=("aborted",))
+    assert world.drive(sm, _finished(sm))
+    assert _keys(sm)[-1] == ("StNavigateToWaypoint1", "StFinalState", "ABORT")
