@@ -120,7 +120,7 @@ def test_all_trajectories_colliding_resets_retries_and_raises_no_valid_control()
     controller = MPPIController(MPPIParams(batch_size=100, retry_attempt_limit=2), inflation=INFLATION)
     calls = []
     iterate = controller.optimizer.kernels.iterate
-    controller.optimizer.kernels.iterate = lambda *a: calls.append(1) or iterate(*a)  # type: ignore[method-assign]
+    controller.optimizer.kernels.iterate = lambda *a: calls.append(1) or iterate(*a)  # type: ignore[method-assign,func-returns-value]
     with pytest.raises(NoValidControl, match="collides"):
         controller.compute_velocity(Pose2D(0.0, 0.0, 0.0), Twist2D(0.0, 0.0), straight_path((0, 0), 0, 1),
                                     grid)

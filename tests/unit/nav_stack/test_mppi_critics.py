@@ -149,6 +149,18 @@ def test_path_align_critic_charges_the_distance_to_the_path_at_equal_arc_length(
     assert out == pytest.approx([0.0])
 
 
+def test_path_align_critic_aligns_only_with_the_path_up_to_the_furthest_reached_point() -> None:
+    """As Nav2's: poses whose distance travelled goes beyond the furthest reached path point are compared
+    with the last point before it, not with path points further on that no trajectory reached."""
+    r = rollouts([0.0, 0.0], [0.1, 0.1])
+    r.x[0] = np.linspace(0.0, 1.0, T)  # ends at path point 20: the furthest reached
+    r.x[1] = np.concatenate([np.linspace(0.0, 1.0, T // 2), np.linspace(1.0, 0.3, T - T // 2)])  # and back
+    whole, _ = costs("PathAlignCritic", r)
+    up_to_furthest, _ = costs("PathAlignCritic", r, path=PATH[:21])
+    assert whole[1] > 14.0 * 0.2  # it does cost: far off its arc length's point on the way back
+    assert whole == pytest.approx(up_to_furthest, rel=1e-12)
+
+
 def test_path_angle_critic_turns_a_robot_that_faces_away_from_the_path() -> None:
     r = rollouts([0.0, 0.0], yaw=[math.pi / 2, 0.0])
     out, _ = costs("PathAngleCritic", r, robot=Pose2D(0.0, 0.0, math.pi / 2))

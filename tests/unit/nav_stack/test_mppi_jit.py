@@ -1,22 +1,23 @@
-"""The compiled MPPI iteration (kernels_jit) computes what the numpy reference does, given the same noise;
-and the compiled noise is standard normal."""
+"""The compiled MPPI iteration (kernels_jit) computes what the numpy reference does, given the same noise,
+and so does a whole compiled controller cycle; the compiled noise is standard normal."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 import pytest
 
 from nav_stack.core.control import CircleFootprint, PolygonFootprint, Twist2D
-from nav_stack.core.control.mppi import CRITIC_PARAMS, MPPIParams
+from nav_stack.core.control.mppi import CRITIC_PARAMS, MPPIController, MPPIParams, sequence_jit
 from nav_stack.core.control.mppi.kernels_jit import JitKernels
 from nav_stack.core.control.mppi.noise import NoiseGenerator, standard_normal_fast
-from nav_stack.core.control.mppi.reference import ReferenceKernels
+from nav_stack.core.control.mppi.reference import ReferenceKernels, poses
 from nav_stack.core.control.mppi.scene import FootprintModel, Rollouts, Scene
 from nav_stack.core.geometry import Pose2D
-from tests.helpers.mppi_scenes import INFLATION, costmap, in_window, polyline, window
+from tests.helpers.mppi_scenes import INFLATION, costmap, in_window, nearest_on, polyline, step, window
 
 BATCH, STEPS = 300, 56
 WAFFLE = PolygonFootprint(((-0.2, -0.15), (0.07, -0.15), (0.07, 0.15), (-0.2, 0.15)))
@@ -28,7 +29,7 @@ def _critics(**changes: dict[str, object]) -> list[tuple[str, object]]:
             for name, cls in CRITIC_PARAMS.items()]
 
 
-CASES = {
+CASES: dict[str, dict[str, Any]] = {
     "diff drive, obstacles, path ahead": dict(robot=Pose2D(0.0, 0.05, 0.1), speed=Twist2D(0.2, 0.1)),
     "diff drive, near the goal": dict(robot=Pose2D(1.0, 0.0, 0.3), speed=Twist2D(0.1, 0.0)),
     "diff drive, facing away (path angle)": dict(robot=Pose2D(0.0, 0.0, 2.8), speed=Twist2D(0.0, 0.0)),
@@ -120,3 +121,49 @@ def test_the_compiled_noise_is_standard_normal_and_repeats_with_the_seed() -> No
     again = np.zeros(400_000, dtype=np.float32)
     standard_normal_fast(np.random.default_rng(11), again)
     assert np.array_equal(out, again)
+
+
+def test_the_compiled_controller_sends_the_reference_commands_for_the_same_noise() -> None:
+    """Whole cycles (path cut, iteration, smoothing, clamps, shift) with the same seeded noise: the
+    compiled backend's commands and control sequence are the numpy reference's."""
+    params = MPPIParams(batch_size=BATCH, time_steps=STEPS)
+    path = polyline([(0.0, 0.0), (0.6, 0.0), (1.0, 0.5), (1.0, 1.5)])
+    controllers = [MPPIController(params, inflation=INFLATION, kernels=kind) for kind in ("reference", "jit")]
+    for controller in controllers:  # the same noise stream for both
+        controller.optimizer.noise = NoiseGenerator(np.random.default_rng(21), BATCH, STEPS, holonomic=False)
+        controller.reset()
+    robot, velocity = Pose2D(0.0, 0.05, 0.4), Twist2D(0.0, 0.0)
+    for _ in range(15):
+        grid = costmap(window(robot.x, robot.y), [(0.3, 0.4, 0.5, 0.6)])
+        local = in_window(nearest_on(path, robot), grid)
+        ref, fast = (c.compute_velocity(robot, velocity, local, grid) for c in controllers)
+        assert fast == pytest.approx(ref, rel=1e-9, abs=1e-12)
+        np.testing.assert_allclose(controllers[1].optimizer.sequence, controllers[0].optimizer.sequence,
+                                   rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(controllers[1].last_trajectory, controllers[0].last_trajectory,
+                                   rtol=1e-9, atol=1e-12)
+        robot, velocity = step(robot, ref, 0.05), ref
+    assert robot.x > 0.05  # it moved along the path: the cycles were not trivial
+
+
+def test_the_compiled_smoothing_is_nav2s_savitzky_golay_filter() -> None:
+    rng = np.random.default_rng(4)
+    sequence, history = rng.normal(size=(3, STEPS)), rng.normal(size=(sequence_jit.HISTORY, 3))
+    expected = sequence.copy()
+    for axis in range(3):
+        padded = np.concatenate([history[:, axis], sequence[axis], np.full(4, sequence[axis, -1])])
+        expected[axis, :-1] = np.convolve(padded, sequence_jit.SGF_WEIGHTS[::-1], mode="valid")[: STEPS - 1]
+    smoothed = sequence.copy()
+    sequence_jit.smooth(smoothed, history, sequence_jit.SGF_WEIGHTS)
+    np.testing.assert_allclose(smoothed, expected, rtol=1e-12, atol=1e-14)
+    short = sequence[:, : sequence_jit.SGF_MIN_STEPS - 1].copy()
+    sequence_jit.smooth(short, history, sequence_jit.SGF_WEIGHTS)
+    np.testing.assert_array_equal(short, sequence[:, : sequence_jit.SGF_MIN_STEPS - 1])  # Nav2: unfiltered
+
+
+def test_the_optimal_trajectory_is_integrated_as_the_rollouts_are() -> None:
+    sequence = np.random.default_rng(8).normal(0.0, 0.3, (3, STEPS))
+    robot = Pose2D(0.3, -0.2, 1.1)
+    x, y, yaw = poses(sequence[0:1], sequence[1:2], sequence[2:3], robot, 0.05)
+    np.testing.assert_allclose(sequence_jit.drive(sequence, robot.x, robot.y, robot.yaw, 0.05),
+                               np.column_stack([x[0], y[0], yaw[0]]), rtol=0, atol=1e-13)

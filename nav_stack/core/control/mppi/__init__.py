@@ -3,9 +3,9 @@
 Layout: params.py / critic_params.py (the knobs), scene.py (one cycle's inputs), reference.py +
 critics.py + path_critics.py (one iteration in numpy, the definition), kernels_jit.py + critics_jit.py
 (the same, compiled; packing.py turns the knobs into their arrays), noise.py (sampling noise),
-optimizer.py (the state kept between cycles, smoothing, limits, fallback), local_path.py (what the
-critics see of the path), controller.py (the LocalController), visualization.py (what the
-TrajectoryVisualizer draws).
+optimizer.py (the state kept between cycles, smoothing, limits, fallback; sequence_jit.py compiles
+its smoothing, clamps and optimal trajectory), local_path.py (what the critics see of the path),
+controller.py (the LocalController), visualization.py (what the TrajectoryVisualizer draws).
 """
 
 from nav_stack.core.control.mppi.controller import MPPIController

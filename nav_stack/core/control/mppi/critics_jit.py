@@ -291,10 +291,10 @@ def path_align_critic(prm: F64, ctx: F64, x: F64, y: F64, yaw: F64, path: F64, v
     weight, power, ratio, step = prm[0], int(prm[1]), prm[2], int(prm[3])
     use_orientations = prm[6] != 0.0
     n = path.shape[0]
-    if n < 2 or goal_within(ctx, prm[4]) or furthest < prm[5] or occupied(valid, furthest, ratio):
+    if n < 2 or furthest < max(prm[5], 1.0) or goal_within(ctx, prm[4]) or occupied(valid, furthest, ratio):
         return
-    along = np.zeros(n - 1)
-    for k in range(1, n - 1):
+    along = np.zeros(furthest)
+    for k in range(1, furthest):
         dx, dy = path[k, 0] - path[k - 1, 0], path[k, 1] - path[k - 1, 1]
         along[k] = along[k - 1] + math.sqrt(dx * dx + dy * dy)
     for i in range(x.shape[0]):

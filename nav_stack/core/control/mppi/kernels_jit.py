@@ -173,9 +173,11 @@ class JitKernels:
 
 
 def warm_up() -> None:
-    """Compile (or load from the cache) every kernel now, the noise's too, on a 4-sample, 8-step problem."""
+    """Compile (or load from the cache) every kernel now, the noise's and the optimizer's too, on a
+    4-sample, 8-step problem."""
     from nav_stack.core.control.base import CostGrid, Twist2D
     from nav_stack.core.control.mppi import noise as sampling
+    from nav_stack.core.control.mppi import sequence_jit
     from nav_stack.core.control.mppi.critic_params import CRITIC_PARAMS
     from nav_stack.core.control.mppi.scene import FootprintModel
     from nav_stack.core.geometry import Pose2D
@@ -191,3 +193,4 @@ def warm_up() -> None:
         for noise in (np.zeros((3, 4, 8), dtype=np.float32), np.zeros((3, 4, 8))):
             JitKernels(params, critics, 0.2).iterate(np.zeros((3, 8)), noise, scene, Rollouts.empty(4, 8))
     sampling.warm_up()
+    sequence_jit.warm_up()

@@ -24,61 +24,34 @@ from typing import Any
 import numpy as np
 
 from nav_stack.core.control.base import NoValidControl
+from nav_stack.core.control.mppi import sequence_jit
 from nav_stack.core.control.mppi.kernels_jit import JitKernels
 from nav_stack.core.control.mppi.noise import NoiseGenerator
 from nav_stack.core.control.mppi.params import MotionModel, MPPIParams
-from nav_stack.core.control.mppi.reference import ReferenceKernels, integrate
+from nav_stack.core.control.mppi.reference import ReferenceKernels
 from nav_stack.core.control.mppi.scene import Rollouts, Scene
 from nav_stack.core.geometry import FloatArray
-
-#: Savitzky-Golay, quadratic, 9 points
-SGF_WEIGHTS = np.array([-21.0, 14.0, 39.0, 54.0, 59.0, 54.0, 39.0, 14.0, -21.0]) / 231.0
-SGF_MIN_STEPS = 21  # Nav2 leaves shorter sequences unfiltered
-HISTORY = 4  # commands kept to pad the filter's start
 
 
 def savitzky_golay(sequence: FloatArray, history: FloatArray) -> None:
     """Smooth every axis of ``sequence`` (3, T) in place but its last element: each element becomes
-    the filter over itself, the four before it (the last commands, ``history`` (4, 3) oldest first,
-    before the start) and the four after it (the last element repeated past the end)."""
-    steps = sequence.shape[1]
-    if steps < SGF_MIN_STEPS:
-        return
-    for axis in range(3):
-        padded = np.concatenate([history[:, axis], sequence[axis], np.full(HISTORY, sequence[axis, -1])])
-        sequence[axis, : steps - 1] = np.convolve(padded, SGF_WEIGHTS[::-1], mode="valid")[: steps - 1]
+    the quadratic 9-point Savitzky-Golay filter over itself, the four before it (the last commands,
+    ``history`` (4, 3) oldest first, before the start) and the four after it (the last element
+    repeated past the end). Sequences shorter than 21 steps stay as they are, as in Nav2."""
+    sequence_jit.smooth(sequence, history, sequence_jit.SGF_WEIGHTS)
 
 
 def constrain(sequence: FloatArray, speed: tuple[float, float, float], p: MPPIParams,
               min_turning_r: float) -> None:
     """Clamp ``sequence`` (3, T) in place to the velocity limits and, step by step from the measured
     ``speed``, to the acceleration limits (the first step over the controller period, later ones over
-    model_dt); element 0 is the speed itself when the sequence shifts. Ackermann: |wz| <= |vx| / r.
-    (Plain floats: a Python loop over numpy elements took a third of a millisecond.)"""
-    holo = p.model.holonomic
-    vx_s, vy_s, wz_s = (row.tolist() for row in sequence)
-    last_x, last_y, last_w = speed[0], speed[1] if holo else 0.0, speed[2]
-    if p.shift_control_sequence:
-        vx_s[0], vy_s[0], wz_s[0] = last_x, last_y, last_w
-    down_rate, side_down_rate, first_dt = -p.decel_limit, -p.lateral_decel_limit, 1.0 / p.controller_frequency
-    for i in range(len(vx_s)):
-        dt = first_dt if i == 0 else p.model_dt
-        up, down, turn = p.ax_max * dt, down_rate * dt, p.az_max * dt
-        vx = min(max(vx_s[i], p.vx_min), p.vx_max)
-        lo, hi = (last_x - down, last_x + up) if last_x > 0.0 else (last_x - up, last_x + down)
-        last_x = vx_s[i] = min(max(vx, lo), hi)
-        wz = min(max(wz_s[i], -p.wz_max), p.wz_max)
-        last_w = wz_s[i] = min(max(wz, last_w - turn), last_w + turn)
-        if holo:
-            vy = min(max(vy_s[i], -p.vy_max), p.vy_max)
-            side_up, side_down = p.ay_max * dt, side_down_rate * dt
-            lo, hi = (last_y - side_down, last_y + side_up) if last_y > 0.0 else (last_y - side_up,
-                                                                                  last_y + side_down)
-            last_y = vy_s[i] = min(max(vy, lo), hi)
-    sequence[:] = (vx_s, vy_s, wz_s)
-    if p.model is MotionModel.Ackermann and min_turning_r > 0.0:
-        reach = np.abs(sequence[0]) / min_turning_r
-        sequence[2] = np.clip(sequence[2], -reach, reach)
+    model_dt; a forward speed falls by at most |ax_min|·dt and rises by ax_max·dt, mirrored when
+    reversing); element 0 is the speed itself when the sequence shifts. Ackermann: |wz| <= |vx| / r."""
+    limits = np.array([p.vx_min, p.vx_max, p.vy_max, p.wz_max, p.ax_max, -p.decel_limit, p.ay_max,
+                       -p.lateral_decel_limit, p.az_max])
+    ackermann_r = min_turning_r if p.model is MotionModel.Ackermann else 0.0
+    sequence_jit.clamp(sequence, np.asarray(speed, dtype=np.float64), limits, p.model.holonomic,
+                       p.shift_control_sequence, 1.0 / p.controller_frequency, p.model_dt, ackermann_r)
 
 
 class Optimizer:
@@ -106,7 +79,7 @@ class Optimizer:
     def reset(self) -> None:
         """Zero sequence and command history, fresh noise (Nav2's Optimizer::reset)."""
         self.sequence = np.zeros((3, self.params.time_steps))
-        self.history = np.zeros((HISTORY, 3))
+        self.history = np.zeros((sequence_jit.HISTORY, 3))
         self.noise.regenerate()
 
     def eval_control(self, scene: Scene) -> tuple[float, float, float]:
@@ -123,7 +96,8 @@ class Optimizer:
         offset = 1 if p.shift_control_sequence else 0
         command = tuple(float(v) for v in self.sequence[:, offset])
         self.history = np.vstack([self.history[1:], command])
-        self.optimal_trajectory = integrate(self.sequence, scene.robot, p.model_dt)
+        robot = scene.robot
+        self.optimal_trajectory = sequence_jit.drive(self.sequence, robot.x, robot.y, robot.yaw, p.model_dt)
         if p.shift_control_sequence:
             self.sequence[:, :-1] = self.sequence[:, 1:].copy()
         return command[0], command[1], command[2]

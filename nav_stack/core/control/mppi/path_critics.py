@@ -92,15 +92,17 @@ def path_align_critic(p: Any, scene: Scene, r: Rollouts, ctx: CycleFacts) -> Flo
     """PathAlignCritic: the mean distance from every ``trajectory_point_step``-th pose to the valid
     path point at the same distance along the path (yaw difference too with use_path_orientations);
     off near the goal, before any trajectory reaches offset_from_furthest points along, and when the
-    path is occupied."""
+    path is occupied. Only the path before the furthest reached point counts, as in Nav2 Jazzy: a pose
+    that has travelled further is compared with the last point before it."""
     zeros = np.zeros(len(r.x))
     path = scene.path
     if len(path) < 2 or scene.goal_within(p.threshold_to_consider):
         return zeros
     furthest = ctx.furthest_reached
-    if furthest < p.offset_from_furthest or occupied(ctx.path_valid, furthest, p.max_path_occupancy_ratio):
+    if furthest < max(p.offset_from_furthest, 1) or occupied(ctx.path_valid, furthest,
+                                                             p.max_path_occupancy_ratio):
         return zeros
-    points = path[:-1]
+    points = path[:furthest]
     along = arc_lengths(points)
     cols = np.arange(0, r.x.shape[1], p.trajectory_point_step)
     x, y, yaw = r.x[:, cols], r.y[:, cols], r.yaw[:, cols]

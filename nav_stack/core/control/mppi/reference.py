@@ -101,14 +101,6 @@ def iterate(sequence: FloatArray, noise: Any, scene: Scene, p: MPPIParams, criti
     return mean, per_critic, fail
 
 
-
-def integrate(sequence: FloatArray, robot: Any, dt: float) -> FloatArray:
-    """The poses (T, 3) a control sequence (3, T) drives from ``robot``, integrated as the rollouts
-    are (Nav2's getOptimizedTrajectory)."""
-    x, y, yaw = poses(sequence[0:1], sequence[1:2], sequence[2:3], robot, dt)
-    return np.column_stack([x[0], y[0], yaw[0]])
-
-
 class ReferenceKernels:
     """The numpy iteration for one parameter set (kernels_jit.JitKernels' twin)."""
 
