@@ -62,6 +62,12 @@ class GoalTicket:
         return self._done.is_set()
 
     @property
+    def goal_id(self) -> Any:
+        """The accepted goal's unique_identifier_msgs/UUID, None until the server accepted it."""
+        with self._lock:
+            return None if self._handle is None else self._handle.goal_id
+
+    @property
     def cancel_requested(self) -> bool:
         """True once ``cancel`` (or ``abandon``) was called."""
         with self._lock:

@@ -150,12 +150,12 @@ class ClNav2Z(ISmaccClient):
         SERVER_LOST_CODE and an error_msg starting with SERVER_LOST, through the same events as a real
         abort, so the machine's own retry or abort path runs. The function that stops watching; None
         while the goal has no accepted handle yet."""
-        handle = getattr(ticket, "_handle", None)  # GoalTicket has no public accessor for it yet
-        if handle is None or ticket.done:
+        goal_id = ticket.goal_id
+        if goal_id is None or ticket.done:
             return None
         if key not in self._watches:
             self._watches[key] = ServerLossWatch(self.node, ACTION_TYPES[key], self.action_names[key])
-        return self._watches[key].watch(handle.goal_id, lambda why: self._end_lost(key, ticket, why))
+        return self._watches[key].watch(goal_id, lambda why: self._end_lost(key, ticket, why))
 
     def _end_lost(self, key: str, ticket: GoalTicket, why: str) -> None:
         ender = self._enders.get(ticket)
