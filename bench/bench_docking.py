@@ -187,6 +187,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--dock-params", type=Path, default=None,
                         help="the docking_server file (default config/docks/<world>.yaml)")
     parser.add_argument("--note", default="")
+    parser.add_argument("--log-dir", type=Path, default=None,
+                        help="where the stack's processes log (default artifacts/logs/bench_docking/)")
     parser.add_argument("--no-record", action="store_true")
     return parser
 
@@ -235,7 +237,8 @@ def main() -> int:
     interrupted = threading.Event()
     records: list[DockingRecord] = []
     with Stack(args.world, args.robot, params_for_robot(args.robot), args.rtf, True, "bench_docking",
-               extra=["--params", str(dock_params)]) as stack:
+               extra=["--params", str(dock_params),
+                      *(["--log-dir", str(args.log_dir)] if args.log_dir else [])]) as stack:
         driver = stack.driver
         probe = DockingProbe(driver)
         deadline = time.monotonic() + 60.0

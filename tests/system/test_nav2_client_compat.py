@@ -1,7 +1,8 @@
 """A Nav2 client works unchanged: the calls nav2_simple_commander's BasicNavigator makes (Jazzy),
 over the same interfaces, against the stack started by nav-bringup.
 
-BasicNavigator is not on pip, so ``MiniNavigator`` repeats its protocol: waitUntilNav2Active polls
+BasicNavigator is not on pip (and its source may not be copied here), so ``MiniNavigator`` repeats
+its protocol (dockRobotByID and undockRobot included): waitUntilNav2Active polls
 ``amcl/get_state`` until "active", publishes /initialpose until /amcl_pose arrives, then polls
 ``bt_navigator/get_state``; tasks are judged by GoalStatus only, as BasicNavigator does.
 """
@@ -24,10 +25,12 @@ from lifecycle_msgs.srv import GetState
 from nav2_msgs.action import (
     BackUp,
     ComputePathToPose,
+    DockRobot,
     FollowWaypoints,
     NavigateThroughPoses,
     NavigateToPose,
     Spin,
+    UndockRobot,
 )
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap
 from rclpy.executors import SingleThreadedExecutor
@@ -61,7 +64,7 @@ class MiniNavigator:
         self.clients = {name: ActionClient(node, kind, name) for name, kind in (
             ("navigate_to_pose", NavigateToPose), ("navigate_through_poses", NavigateThroughPoses),
             ("follow_waypoints", FollowWaypoints), ("compute_path_to_pose", ComputePathToPose),
-            ("spin", Spin), ("backup", BackUp))}
+            ("spin", Spin), ("backup", BackUp), ("dock_robot", DockRobot), ("undock_robot", UndockRobot))}
         self.initial_pose_pub = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
         self.amcl_poses: list[Any] = []
         node.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self.amcl_poses.append,
@@ -129,9 +132,11 @@ class MiniNavigator:
 
 @pytest.fixture(scope="module", params=["one-process", "isolated"])
 def stack(request: Any) -> Iterator[Bringup]:
-    """The stack in both layouts: one nav2 process (the default) and ``--isolated``."""
+    """The stack in both layouts: one nav2 process (the default) and ``--isolated``, with
+    turtlebot3_world's dock database (docs/docking.md), so docking_server runs too."""
     layout = ["--isolated"] if request.param == "isolated" else []
-    bringup = Bringup("--no-initial-pose", *layout)
+    bringup = Bringup("--no-initial-pose", *layout, "--params", str(REPO / "config" / "nav2_params.yaml"),
+                      "--params", str(REPO / "config" / "docks" / "turtlebot3_world.yaml"))
     try:
         bringup.wait_for_line(READY, timeout=240.0)
         yield bringup
@@ -188,6 +193,15 @@ def test_basic_navigator_session(nav):
     costmap = nav.call(GetCostmap, "global_costmap/get_costmap", GetCostmap.Request()).map  # getGlobalCostmap
     size = costmap.metadata.size_x * costmap.metadata.size_y
     assert size > 0 and len(costmap.data) == size
+
+    # dockRobotByID(dock_id, nav_to_dock=True), then undockRobot(dock_type=''): the server knows the type
+    nav.start("dock_robot", DockRobot.Goal(use_dock_id=True, dock_id="home_dock",
+                                           navigate_to_staging_pose=True))
+    docked = nav.result()
+    assert docked.status == GoalStatus.STATUS_SUCCEEDED, (docked.result.error_code, docked.result.error_msg)
+    nav.start("undock_robot", UndockRobot.Goal(dock_type=""))
+    undone = nav.result()
+    assert undone.status == GoalStatus.STATUS_SUCCEEDED, (undone.result.error_code, undone.result.error_msg)
 
     url = f"file://{REPO / 'maps' / 'turtlebot3_world.yaml'}"
     response = nav.call(LoadMap, "map_server/load_map", LoadMap.Request(map_url=url))  # changeMap

@@ -116,9 +116,11 @@ class DockingController:
         """
         hit = self.collision(target, robot, obstacles, is_docking, backward)
         if hit is not None:
+            goal = compose(robot, target)
             raise FailedToControl(f"collision ahead: the {'docking' if is_docking else 'undocking'} motion "
-                                  f"would hit an obstacle at ({hit.x:.2f}, {hit.y:.2f}) in "
-                                  f"'{obstacles.frame if obstacles else ''}'")
+                                  f"from ({robot.x:.2f}, {robot.y:.2f}, {robot.yaw:.2f}) towards "
+                                  f"({goal.x:.2f}, {goal.y:.2f}) would hit an obstacle at ({hit.x:.2f}, "
+                                  f"{hit.y:.2f}, {hit.yaw:.2f}) in '{obstacles.frame if obstacles else ''}'")
         return velocity_command(target, Pose2D(0.0, 0.0, 0.0), self.params, backward)
 
     def command_to_pose(self, robot: Pose2D, pose: Pose2D, linear_tolerance: float, angular_tolerance: float,

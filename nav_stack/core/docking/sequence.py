@@ -12,7 +12,8 @@ and a test drives it with a fake world:
    navigation is tried once more with the time left; past ``max_staging_time`` (or twice failed):
    FAILED_TO_STAGE, and the navigation is cancelled.
 3. **initial perception**: the dock's database pose in ``fixed_frame`` is refined by the plugin until it
-   succeeds, else FAILED_TO_DETECT_DOCK after ``initial_perception_timeout`` (not retried).
+   succeeds, else FAILED_TO_DETECT_DOCK after ``initial_perception_timeout`` (not retried, except
+   after a retry's way back, where it is that retry's failure).
 4. **controlling**: each tick, docked (or charging) ends the approach; else the refined pose (lost:
    FAILED_TO_DETECT_DOCK) projected 0.25 m past the dock is the control law's target; a colliding
    command or ``dock_approach_timeout`` gives FAILED_TO_CONTROL.
@@ -20,10 +21,14 @@ and a test drives it with a fake world:
    Meanwhile (not in Nav2, which commands nothing and lets the base run on until contact) the robot
    settles onto the refined dock pose and stops there (see ``_settle``).
 
-A failure in 4 or 5 is retried while ``num_retries`` <= ``max_retries``: the robot drives back to the
-staging pose (within the undock tolerances; FAILED_TO_CONTROL on collision or after
-``dock_approach_timeout``) and approaches again. TF failures end the goal with UNKNOWN. Feedback states
-are Nav2's (the way back reports INITIAL_PERCEPTION, as Nav2 Jazzy does).
+A failure in 4 or 5 is retried while ``num_retries`` <= ``max_retries``: the robot stops, drives back
+to the staging pose (Nav2's resetApproach: within the undock tolerances, the roll-out checked as an
+undocking motion; a collision or ``dock_approach_timeout`` there ends the goal FAILED_TO_CONTROL, as in
+Nav2, where resetApproach throws outside the retry handler), detects the dock again (3) and approaches
+again. Each of these hand-overs ends the tick (not in Nav2, whose loop re-runs the approach at once: a
+robot still within the tolerances of the staging pose re-checked the same roll-out against the same
+costmap and used up every retry within one control cycle). TF failures end the goal with UNKNOWN.
+Feedback states are Nav2's (the way back reports INITIAL_PERCEPTION, as Nav2 Jazzy does).
 """
 
 from __future__ import annotations
@@ -175,13 +180,17 @@ class DockingSequence:
         return now - self.phase_start
 
     def _on_failure(self, error: DockingError, now: float) -> DockingStep | None:
-        if error.retryable and self.phase in (Phase.CONTROLLING, Phase.WAIT_FOR_CHARGE):
+        # the detection after a retry's way back belongs to that retry (in Nav2 the first refinement after
+        # resetApproach happens in approachDock, whose FailedToDetectDock is retried)
+        retrying = self.phase is Phase.INITIAL_PERCEPTION and self.num_retries > 0
+        if error.retryable and (retrying or self.phase in (Phase.CONTROLLING, Phase.WAIT_FOR_CHARGE)):
             self.num_retries += 1
             self.retry_reason = str(error)
             if self.num_retries <= self.params.max_retries:
                 self.staging = self._plugin.staging_pose(self._dock.pose, self._dock.frame)
                 self._enter(Phase.RESET, now)
-                return None  # start back at once
+                # stop now; the way back starts next tick, with a new robot pose and costmap
+                return DockingStep(DockingState.INITIAL_PERCEPTION, self.num_retries, command=STOP)
             return self._finish(DockingOutcome.ABORTED, error.code,
                                 f"{error} (all {self.params.max_retries} retries used)")
         return self._finish(DockingOutcome.ABORTED, error.code, str(error))
@@ -342,9 +351,9 @@ class DockingSequence:
             robot, staging, p.undock_linear_tolerance, p.undock_angular_tolerance,
             robot_in_costmap(self.world, robot, dock.frame, obstacles), obstacles, False,
             not p.dock_backwards)
-        if command is None:
-            self._enter(Phase.CONTROLLING, now)
-            return None
+        if command is None:  # back at the staging pose: detect the dock again, from the next tick
+            self._start_perception(now)
+            return DockingStep(DockingState.INITIAL_PERCEPTION, self.num_retries, command=STOP)
         if self._elapsed(now) > p.dock_approach_timeout:
             raise FailedToControl(f"timed out returning to the staging pose for retry {self.num_retries} "
                                   f"after dock_approach_timeout {p.dock_approach_timeout:g} s")

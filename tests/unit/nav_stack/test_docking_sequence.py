@@ -4,6 +4,7 @@ code, retries, cancel, collisions. Times are the injected sim time (s)."""
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import pytest
@@ -229,6 +230,51 @@ def test_an_obstacle_before_the_dock_ends_with_failed_to_control_and_the_robot_c
     assert "collision ahead" in step.result.error_msg and step.result.num_retries == 2
     assert rig.world.robot.x < 0.05 - 0.1  # the footprint (0.1 m) never touched the box
     assert step.command == (0.0, 0.0)
+
+
+def test_a_collision_at_the_staging_pose_uses_one_retry_per_attempt() -> None:
+    """Issue 42: from the staging pose the way back is done at once, and the approach used to run again
+    in the same tick against the same costmap: all retries went within one control cycle. Each retry
+    now stops the robot, returns, detects the dock again and approaches on later ticks."""
+    rig = Rig(Pose2D(-0.2, 0.0, 0.0), max_retries=3)  # on the staging pose (staging_x_offset -0.7)
+    rig.world.grid = box_obstacle(0.05, -0.3, 0.15, 0.3)
+    ticks: list[tuple[float, DockingStep, str]] = []
+    sequence = rig.dock()
+    step, _ = drive(sequence, rig.world, rig.plugin,
+                    on_step=lambda step, t: ticks.append((t, step, sequence.phase.value)))
+    assert step.result is not None and step.result.error_code == DockErrorCode.FAILED_TO_CONTROL
+    assert step.result.num_retries == 4 and "all 3 retries used" in step.result.error_msg
+    counts = [0] + [s.num_retries for _, s, _ in ticks]
+    failures = [i for i in range(len(ticks)) if counts[i + 1] > counts[i]]  # tick indices
+    assert [counts[i + 1] - counts[i] for i in failures] == [1, 1, 1, 1]  # one retry per tick at most
+    for before, after in itertools.pairwise(failures):
+        phases = [phase for _, _, phase in ticks[before:after + 1]]  # each as its tick left it
+        assert "back to staging" in phases and "initial perception" in phases, phases  # back, re-detect
+    for index in failures[:-1]:
+        assert ticks[index][1].command == (0.0, 0.0)  # the failing tick stops the robot
+
+
+def test_a_retry_drives_back_to_the_staging_pose_detects_again_and_docks() -> None:
+    """An obstacle seen mid-approach, gone afterwards: back to staging, a new detection, docked."""
+    rig = Rig(Pose2D(-0.2, 0.0, 0.0))
+    phases: list[str] = []
+    xs_after_failure: list[float] = []
+    sequence = rig.dock()
+
+    def world_changes(step: DockingStep, _t: float) -> None:
+        phases.append(sequence.phase.value)
+        if step.num_retries == 0 and rig.world.robot.x > 0.0:
+            rig.world.grid = box_obstacle(0.25, -0.3, 0.3, 0.3)  # appears in front of the robot
+        elif step.num_retries == 1:
+            rig.world.grid = None  # and is gone
+            xs_after_failure.append(rig.world.robot.x)
+
+    step, _ = drive(sequence, rig.world, rig.plugin, on_step=world_changes)
+    assert step.result is not None and step.result.success and step.result.num_retries == 1, step.result
+    assert min(xs_after_failure) < -0.2 + 0.05  # within undock_linear_tolerance of the staging pose
+    retry = phases.index("back to staging")
+    assert "initial perception" in phases[retry:] and "controlling" in phases[retry:]
+    assert phases[retry:].index("initial perception") < phases[retry:].index("controlling")
 
 
 def test_cancel_stops_the_robot_and_ends_canceled() -> None:
