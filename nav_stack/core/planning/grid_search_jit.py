@@ -17,6 +17,11 @@ expansions and the caller checks the deadline between slices, as the reference d
 A planner passes one :class:`SearchArrays` to all its searches: the 4-million-cell arrays of a
 2000 x 2000 map are kept between plans, and only the cells the last plan reached are reset.
 
+A slice runs without the GIL (``nogil``): it touches only its arrays, and the planner server runs
+it on its worker thread, so the executor thread goes on serving the controller and the costmaps on
+the other core instead of waiting for the slice, and the search no longer waits for the executor's
+Python to hand the GIL back (which stretched plans past the 50 ms budget on a busy process).
+
 Compiling takes seconds (about 4 s on two cores; loading the cached code about 1 s), which must not
 count against the first plan's ``max_planning_time``: planners call :func:`warm_up` when they are
 built, during the planner server's configure.
@@ -84,7 +89,7 @@ def _pop(keys: npt.NDArray[np.float64], items: npt.NDArray[np.int64], size: int)
     return top, size
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _expand(codes: npt.NDArray[np.uint8], table: npt.NDArray[np.float64], closed: npt.NDArray[np.uint8],
             g: npt.NDArray[np.float64], parent: npt.NDArray[np.int64], touched: npt.NDArray[np.int32],
             n_touched: int, keys: npt.NDArray[np.float64], items: npt.NDArray[np.int64], size: int,

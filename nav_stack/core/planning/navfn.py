@@ -14,6 +14,11 @@ drove between them (seen: upstream's waypoint (0, 0) took 41 to 130 s of sim tim
 failed). The cheapest candidate is the one the robot is already heading for, so the choice holds.
 ``max_planning_time`` and ``max_iterations`` are our additions (Smac's knobs) so a plan on a huge
 map ends with TIMEOUT instead of blocking the planner server.
+
+A replan to the same goal from a cell of the last plan keeps the rest of that plan without a search
+when no change of the costmap could make another path cheaper (replan.py says when and why: the
+answer costs what a search's would; on bench_planning's 1.67 M-cell warehouse a kept replan takes
+1.3 ms of CPU against 50 to 90 ms for the search).
 """
 
 from __future__ import annotations
@@ -50,6 +55,7 @@ from nav_stack.core.planning.grid_search import (
 )
 from nav_stack.core.planning.grid_search_jit import SearchArrays, warm_up
 from nav_stack.core.planning.grid_search_jit import search as compiled_search
+from nav_stack.core.planning.replan import ReplanMemory
 
 Search = Callable[[SearchGraph, int, int, bool, int, Callable[[], bool]], SearchResult]
 
@@ -101,6 +107,7 @@ class NavfnPlanner:
             self._search = functools.partial(compiled_search, arrays=SearchArrays())
         self._cached_costs: CostArray | None = None
         self._graph: SearchGraph | None = None
+        self.memory = ReplanMemory(navfn_cost_table(self.params.allow_unknown))
 
     def _prepare(self, costs: CostArray) -> SearchGraph:
         if self._graph is None or self._cached_costs is None or not np.array_equal(costs, self._cached_costs):
@@ -113,7 +120,11 @@ class NavfnPlanner:
         check_costmap(costs, spec)
         start_cell = locate(spec, start, "start")
         goal_cell = locate(spec, goal, "goal")
-        graph = graph_from_start(self._prepare(costs), costs, spec, start_cell, ESCAPE_COST)
+        rest = self.memory.rest_of_plan(start_cell, goal, spec, costs)
+        if rest is not None:
+            return _poses(spec, [tuple(c) for c in rest.tolist()], start, goal, goal_cell)
+        prepared = self._prepare(costs)
+        graph = graph_from_start(prepared, costs, spec, start_cell, ESCAPE_COST)
         if self.params.tolerance > 0.0:
             passable = (
                 np.frombuffer(graph.blocked, dtype=np.uint8).reshape(graph.height + 2, graph.width + 2)[
@@ -149,13 +160,14 @@ class NavfnPlanner:
                 PlanErrorCode.NO_VALID_PATH,
                 f"no path from {start_cell} to {goal_cell} (tolerance {self.params.tolerance} m)",
             )
-        points = cell_centres(spec, result.cells_to(graph, target))
-        if len(points) == 1:
-            points = np.vstack((points, points))
-        points[0] = (start.x, start.y)
-        if graph.cell(target) == goal_cell:
-            points[-1] = (goal.x, goal.y)
-        return build_path(points, goal.yaw, spec.resolution)
+        cells = result.cells_to(graph, target)
+        if graph is prepared and graph.cell(target) == goal_cell:  # no escape, no tolerance choice
+            along = np.asarray(cells, dtype=np.int64)
+            self.memory.remember(goal, spec, costs, along,
+                                 result.g[(along[:, 1] + 1) * graph.stride + along[:, 0] + 1])
+        else:
+            self.memory.forget()
+        return _poses(spec, cells, start, goal, goal_cell)
 
     @staticmethod
     def _end_cell(result: SearchResult, graph: SearchGraph, near: list[tuple[int, int]],
@@ -175,6 +187,19 @@ class NavfnPlanner:
         if reached_near:
             return min(reached_near, key=lambda index: float(result.g[index]))
         return next((graph.index(*c) for c in candidates if was_reached(c)), None)
+
+
+def _poses(spec: GridSpec, cells: list[tuple[int, int]], start: Pose2D, goal: Pose2D,
+           goal_cell: tuple[int, int]) -> FloatArray:
+    """The (N, 3) path through the centres of ``cells``, from the start's own position and ending at
+    the goal's own position when the last cell is the goal's."""
+    points = cell_centres(spec, cells)
+    if len(points) == 1:
+        points = np.vstack((points, points))
+    points[0] = (start.x, start.y)
+    if cells[-1] == goal_cell:
+        points[-1] = (goal.x, goal.y)
+    return build_path(points, goal.yaw, spec.resolution)
 
 
 def equally_near(spec: GridSpec, goal: Pose2D, goal_cell: tuple[int, int],
