@@ -13,7 +13,10 @@ Usage::
     python scripts/repeatability.py RUN_A.mcap RUN_B.mcap [--tol 1e-9] [--topics /odom /cmd_vel]
 
 Each argument may also be a scenario output directory (the ``run.mcap`` under it is found).
-Exit status 0 when every compared topic agrees over the common span, 1 otherwise.
+The last line is the verdict: ``identical`` (every compared topic agrees over the common span, and
+each has messages in common) or ``differ``, naming the earliest sim time at which the recordings
+part and on which topic (or the topics that one recording lacks). Exit status 0 for ``identical``,
+1 for ``differ``.
 """
 
 from __future__ import annotations
@@ -130,6 +133,30 @@ def report(verdicts: Sequence[Verdict], stamped: dict[str, bool]) -> str:
     return "\n".join(lines)
 
 
+def verdict(verdicts: Sequence[Verdict], stamped: dict[str, bool], missing: Sequence[str] = ()) -> str:
+    """The one-line verdict: ``identical: ...`` or ``differ: ...`` with the earliest parting (sim time
+    of the first differing stamp; an unstamped topic is named by its message index)."""
+    parted = [v for v in verdicts if v.first is not None]
+    empty = [v.topic for v in verdicts if v.compared == 0]
+    if not parted and not empty and not missing and verdicts:
+        total = sum(v.compared for v in verdicts)
+        return f"identical: {len(verdicts)} topics, {total} messages compared, none beyond the tolerance"
+    reasons = []
+    timed = sorted((v.first[0], v.topic) for v in parted if v.first is not None and stamped[v.topic])
+    if timed:
+        stamp, topic = timed[0]
+        reasons.append(f"first part at sim time {stamp * 1e-9:.3f} s on {topic}")
+    untimed = [v for v in parted if v.first is not None and not stamped[v.topic]]
+    reasons += [f"{v.topic} from message #{v.first[0]}" for v in untimed if v.first is not None]
+    if empty:
+        reasons.append(f"no message in common on {', '.join(empty)}")
+    if missing:
+        reasons.append(f"only one recording has {', '.join(missing)}")
+    if not verdicts and not missing:
+        reasons.append("no compared topic in either recording")
+    return "differ: " + "; ".join(reasons)
+
+
 def _mcap(arg: str) -> Path:
     path = Path(arg)
     if path.is_dir():
@@ -149,8 +176,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     run_a, run_b = load(_mcap(args.a), args.topics), load(_mcap(args.b), args.topics)
     verdicts = [compare(t, run_a[t], run_b[t], args.tol) for t in args.topics if t in run_a and t in run_b]
-    print(report(verdicts, {t: run_a[t].stamped for t in run_a}))
-    return 0 if all(v.first is None for v in verdicts) else 1
+    missing = [t for t in args.topics if (t in run_a) != (t in run_b)]
+    stamped = {t: run_a[t].stamped for t in run_a}
+    if verdicts:
+        print(report(verdicts, stamped))
+    line = verdict(verdicts, stamped, missing)
+    print(line)
+    return 0 if line.startswith("identical") else 1
 
 
 if __name__ == "__main__":

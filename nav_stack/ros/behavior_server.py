@@ -15,6 +15,13 @@ a message on ``preempt_teleop`` (std_msgs/Empty) ends it with success, ``time_al
 
 One behavior runs at a time (they share cmd_vel): a new goal of any behavior aborts the running
 one. A cancel publishes a zero command at once; every end publishes a zero command.
+
+Time: a cycle works at its nominal time, its slot on the timer's grid (ros_tools.runtime.timers.
+nominal_call_ns), not at the clock's "now", which under lockstep has moved on by a /clock message or
+two depending on wall timing. Its commands carry that time as their stamp, so a stamped cmd_vel
+takes effect at the same sim time on every run (docs/architecture.md, "What repeats"). The timer
+therefore runs from activation to deactivation, never reset: a reset at a goal's arrival would put
+the grid where the goal happened to arrive.
 """
 
 from __future__ import annotations
@@ -47,7 +54,7 @@ from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT, LATCHED
 from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
-from ros_tools.runtime.timers import create_periodic_timer
+from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
 
 #: plugin type -> (action type, TF_ERROR code)
 BEHAVIOR_TYPES: dict[str, tuple[Any, int]] = {
@@ -232,8 +239,6 @@ class BehaviorServer(NavLifecycleNode):
             if self._current is not None:
                 self._release(self._current, f"preempted by a new {kind} goal", successor=run)
             self._current = run
-            if self._active:
-                self._timer.reset()  # the cycle sleeps while no goal runs
             self.get_logger().info(f"running {kind}")
         return await run.wait()
 
@@ -256,51 +261,51 @@ class BehaviorServer(NavLifecycleNode):
         run = self._current
         if run is None or run.finished:
             self._current = None
-            self._timer.cancel()  # idle: no wake-ups until the next goal resets it
             return
+        cycle_ns = nominal_call_ns(self, self._timer)  # the cycle's slot on the timer's grid
         if run.stop_requested:
             if run.handle.is_cancel_requested:
-                self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0))
+                self._end(run, Outcome.CANCELED, BehaviorResult(0, "canceled", 0.0), cycle_ns)
             return
-        now = self._now()
+        now = cycle_ns * 1e-9
         if run.kind == "AssistedTeleop":
-            self._teleop_cycle(run, now)
+            self._teleop_cycle(run, cycle_ns)
             return
         if run.kind == "Wait":
             outcome = run.behavior.step(now)
             run.handle.publish_feedback(Wait.Feedback(time_left=duration_msg(run.behavior.time_left)))
             if outcome is not None:
-                self._end(run, Outcome.SUCCEEDED, outcome)
+                self._end(run, Outcome.SUCCEEDED, outcome, cycle_ns)
             return
         try:
             pose = self.frames.robot_pose(self.params.local_frame)
         except FrameError as error:
-            self._end(run, Outcome.ABORTED, BehaviorResult(run.tf_error, str(error), 0.0))
+            self._end(run, Outcome.ABORTED, BehaviorResult(run.tf_error, str(error), 0.0), cycle_ns)
             return
         step = run.behavior.step(pose, now, self._grid)
         if isinstance(step, BehaviorResult):
-            self._end(run, Outcome.SUCCEEDED if step.succeeded else Outcome.ABORTED, step)
+            self._end(run, Outcome.SUCCEEDED if step.succeeded else Outcome.ABORTED, step, cycle_ns)
             return
-        self._cmd.publish(step.vx, step.wz)
+        self._cmd.publish(step.vx, step.wz, cycle_ns)
         self._feedback(run)
 
-    def _teleop_cycle(self, run: _BehaviorRun, now: float) -> None:
+    def _teleop_cycle(self, run: _BehaviorRun, cycle_ns: int) -> None:
         """Nav2's order: feedback, end (time allowance, preempt), pose, the scaled command."""
         teleop = run.behavior
-        end = teleop.check(now)
+        end = teleop.check(cycle_ns * 1e-9)
         run.handle.publish_feedback(
             AssistedTeleop.Feedback(current_teleop_duration=duration_msg(teleop.current_teleop_duration)))
         if end is not None:
-            self._end(run, Outcome.SUCCEEDED if end.succeeded else Outcome.ABORTED, end)
+            self._end(run, Outcome.SUCCEEDED if end.succeeded else Outcome.ABORTED, end, cycle_ns)
             return
         try:
             pose = self.frames.robot_pose(self.params.local_frame)
         except FrameError as error:
             self._end(run, Outcome.ABORTED,
-                      BehaviorResult(run.tf_error, str(error), teleop.current_teleop_duration))
+                      BehaviorResult(run.tf_error, str(error), teleop.current_teleop_duration), cycle_ns)
             return
         cmd = teleop.command(pose, self._grid)
-        self._cmd.publish(cmd.vx, cmd.wz, vy=cmd.vy)
+        self._cmd.publish(cmd.vx, cmd.wz, cycle_ns, vy=cmd.vy)
 
     def _feedback(self, run: _BehaviorRun) -> None:
         action_type = BEHAVIOR_TYPES[run.kind][0]
@@ -311,9 +316,9 @@ class BehaviorServer(NavLifecycleNode):
             feedback.distance_traveled = float(run.behavior.distance_traveled)
         run.handle.publish_feedback(feedback)
 
-    def _end(self, run: _BehaviorRun, outcome: Outcome, result: BehaviorResult) -> None:
+    def _end(self, run: _BehaviorRun, outcome: Outcome, result: BehaviorResult, cycle_ns: int) -> None:
         if run.kind != "Wait":
-            self._cmd.stop()
+            self._cmd.stop(cycle_ns)
         if run.kind == "AssistedTeleop":
             run.behavior.finish()
         if outcome is Outcome.ABORTED:

@@ -39,7 +39,12 @@ warnings and errors; each process's full log is in ``--log-dir`` (``--verbose`` 
 Lockstep (default; ``--no-lockstep`` turns it off): sim2d waits for the node processes (roles
 ``nav2``, or ``localization`` and ``navigation``) before its first step and never runs more than
 one control period ahead of them, so ``--rtf`` is an upper bound and the outcome does not depend on
-the machine's load. ``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
+the machine's load. In lockstep with the simulator, velocity commands are stamped on both sides
+(sim2d ``--stamped``; ``enable_stamped_cmd_vel: true`` for every command producer the files run,
+whatever they say): sim2d applies each at its stamp + ``stamped_cmd_vel_delay``, so when it takes
+effect does not depend on when it crossed DDS (docs/architecture.md, "What repeats").
+``--unstamped-cmd-vel`` keeps the files' setting and a Twist simulator.
+``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
 the node processes (nav_stack/ros/bringup_components.py).
 """
 
@@ -100,6 +105,9 @@ def _parser() -> argparse.ArgumentParser:
                              f"${LAYOUT_ENV}=isolated)")
     parser.add_argument("--no-lockstep", dest="lockstep", action="store_false", default=True,
                         help="let the simulator run by the wall clock alone (default: lockstep)")
+    parser.add_argument("--unstamped-cmd-vel", dest="stamped_cmd_vel", action="store_false", default=True,
+                        help="in lockstep, keep the parameter files' enable_stamped_cmd_vel and a Twist "
+                             "simulator (default: stamped commands on both sides, so runs repeat)")
     parser.add_argument("--participant", action="append", default=[], metavar="ROLE",
                         help="one more lockstep role the simulator waits for before its first step "
                              "(e.g. a state machine's name); repeatable")
@@ -220,12 +228,14 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     map_args = ["--map", str(Path(args.map).resolve())] if args.map else []
     specs: list[ProcessSpec] = []
     components = ["navigation"] if args.slam else ["localization", "navigation"] if args.isolated else ["all"]
+    stamped = stamps_cmd_vel(args)
     if not args.no_sim:
         roles = [component_role(c) for c in components] + list(args.participant)
         lockstep = ["--lockstep-participants", ",".join(roles)] if args.lockstep else []
         specs.append(ProcessSpec("sim2d", _python_module(
             "sim2d.ros.cli", "--world", args.world, "--robot", args.robot, "--rtf", args.rtf,
             "--x", str(args.x), "--y", str(args.y), "--yaw", str(args.yaw), *lockstep,
+            *(["--stamped"] if stamped else []),
             *(["--ros-args", "--params-file", str(Path(args.sim_params).resolve())] if args.sim_params
               else [])),
             ready=r"sim2d", ready_timeout=60.0))
@@ -233,7 +243,8 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     def component(name: str) -> ProcessSpec:
         slam = ["--map-from-slam"] if args.slam else []
         return ProcessSpec(component_role(name), _python_module(
-            "nav_stack.ros.bringup", "component", name, *param_args, *map_args, *slam),
+            "nav_stack.ros.bringup", "component", name, *param_args, *map_args, *slam,
+            *(["--stamped-cmd-vel"] if stamped else [])),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout,
             respawn=args.respawn, respawn_delay=RESPAWN_DELAY)
 
@@ -262,6 +273,12 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
         for spec in specs:
             spec.env["NAVSUITE_EXECUTOR"] = args.executor
     return specs
+
+
+def stamps_cmd_vel(args: argparse.Namespace) -> bool:
+    """Whether this launch stamps velocity commands: in lockstep with its own simulator, unless
+    ``--unstamped-cmd-vel`` (exactness is promised only there; wall-clock runs keep the files' type)."""
+    return bool(args.lockstep and not args.no_sim and args.stamped_cmd_vel)
 
 
 def launch(args: argparse.Namespace, output: Callable[[str], None] | None = None) -> int:
@@ -307,10 +324,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         sub.add_argument("--map", default=None)
         sub.add_argument("--map-from-slam", action="store_true",
                          help="the map comes from SLAM: do not hold the simulator until it arrives")
+        sub.add_argument("--stamped-cmd-vel", action="store_true",
+                         help="enable_stamped_cmd_vel: true for every velocity command producer it runs")
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
         return run_component(opts.name, opts.params or [str(DEFAULT_PARAMS)], opts.map, opts.executor,
-                             opts.map_from_slam)
+                             opts.map_from_slam, opts.stamped_cmd_vel)
     args = parse_args(argv)
     problem = check_params(args)
     if problem:

@@ -12,12 +12,17 @@ ends with exit code 1 when a manager aborts its bringup.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from nav_stack.ros.bringup_plan import BOND_TIMEOUT, BringupPlan, ManagerPlan, plan_bringup
 
 COMPONENT_READY = "bringup: component {name} is active"
+#: Nodes that publish velocity commands, each with Nav2's ``enable_stamped_cmd_vel`` (the chain's filters
+#: read and write the same type, so all of them switch together).
+STAMPED_PRODUCERS = ("controller_server", "behavior_server", "velocity_smoother", "collision_monitor",
+                     "docking_server")
 COMPONENTS = ("localization", "navigation", "all")
 WAIT_REPORT_S = 5.0  # s (wall) between two "still waiting for" lines
 
@@ -81,13 +86,31 @@ def waiting_for(managers: Sequence[Any], costmaps: Sequence[Any], clock_heard: b
     return items
 
 
+def stamped_overlay(node_names: Sequence[str], directory: str | None = None) -> str:
+    """A parameter file, written to a temporary file, that sets ``enable_stamped_cmd_vel: true`` for the
+    velocity command producers among ``node_names``; its path. Only running nodes get a section: a
+    section of its own makes an optional server (the velocity smoother) look configured."""
+    import tempfile
+
+    import yaml
+
+    sections = {node: {"ros__parameters": {"enable_stamped_cmd_vel": True}}
+                for node in node_names if node in STAMPED_PRODUCERS}
+    with tempfile.NamedTemporaryFile("w", prefix="nav_bringup_stamped_", suffix=".yaml", dir=directory,
+                                     delete=False) as handle:
+        yaml.safe_dump(sections, handle)
+    return handle.name
+
+
 def run_component(name: str, params: Sequence[str], map_yaml: str | None, executor: str | None = None,
-                  map_from_slam: bool = False) -> int:
+                  map_from_slam: bool = False, stamped_cmd_vel: bool = False) -> int:
     """Run the nodes of component ``name`` in this process; print COMPONENT_READY once its managers
     are active. The process is a lockstep participant named after the component, and holds the
     simulator until then and until its costmaps have their map (the stack's bringup takes the same
     sim time however slow the machine). With ``map_from_slam`` the map only comes once the simulator
-    runs (SLAM builds it from scans), so the process does not wait for it."""
+    runs (SLAM builds it from scans), so the process does not wait for it. With ``stamped_cmd_vel``
+    every velocity command producer it runs publishes TwistStamped, over what the files say (the
+    launch runs a stamped simulator in lockstep: nav_stack/ros/bringup.py)."""
     from rclpy.clock import Clock, ClockType
 
     from nav_stack.ros.costmap_ros import CostmapROS
@@ -149,10 +172,19 @@ def run_component(name: str, params: Sequence[str], map_yaml: str | None, execut
 
         timer = managers[0].create_timer(0.2, announce, clock=steady)
 
-    rclpy_args = ["nav_bringup", "--ros-args", *[arg for f in params for arg in ("--params-file", str(f))],
+    files = [str(f) for f in params]
+    overlay = None
+    if stamped_cmd_vel and name in ("navigation", "all"):
+        overlay = stamped_overlay(plan.navigation.node_names)
+        files.append(overlay)  # the last file wins over the user's
+    rclpy_args = ["nav_bringup", "--ros-args", *[arg for f in files for arg in ("--params-file", f)],
                   "-p", "use_sim_time:=true", *plan.ros_args()]
-    code = run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
-                     ready=ready, on_start=announce_when_ready)
+    try:
+        code = run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
+                         ready=ready, on_start=announce_when_ready)
+    finally:
+        if overlay is not None:
+            os.unlink(overlay)
     return 1 if failed else code
 
 

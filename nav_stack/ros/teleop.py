@@ -9,7 +9,8 @@ Interactive mode puts the terminal in raw mode (restored on exit). ``--keys wwwa
 instead, one per period, then publishes a stop and exits (for tests and scripts; it first waits up to
 SUBSCRIBER_WAIT for a cmd_vel subscriber, since messages sent before discovery are lost, and on exit up
 to ACK_WAIT for its last commands to be acknowledged).
-``cmd_vel`` is Twist, or TwistStamped with ``-p enable_stamped_cmd_vel:=true`` (Nav2's name).
+``cmd_vel`` is Twist, or TwistStamped with ``-p enable_stamped_cmd_vel:=true`` (Nav2's name); unset,
+it is the type the robot's subscription takes (nav-bringup's simulator takes TwistStamped in lockstep).
 """
 
 from __future__ import annotations
@@ -110,6 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     import rclpy
     from rclpy.duration import Duration
     from rclpy.node import Node
+    from rclpy.parameter import Parameter
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.cmd_vel import CmdVelPublisher
@@ -125,8 +127,9 @@ def main(argv: list[str] | None = None) -> int:
     node = Node("teleop_keyboard")
     executor = make_executor(args.executor)
     executor.add_node(node)
-    stamped = bool(node.declare_parameter("enable_stamped_cmd_vel", False).value)
-    cmd = CmdVelPublisher(node, stamped)
+    # Unset: follow the type the robot's cmd_vel subscription takes (CmdVelPublisher with None).
+    stamped = node.declare_parameter("enable_stamped_cmd_vel", Parameter.Type.BOOL).value
+    cmd = CmdVelPublisher(node, None if stamped is None else bool(stamped))
     state = TeleopState(*LIMITS[args.model])
 
     def pause() -> None:
@@ -140,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
             deadline = time.monotonic() + SUBSCRIBER_WAIT
             while cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
                 pause()  # a replay sent before discovery is lost
+                cmd.follow_subscribers()  # the robot's type, once the graph shows its subscription
             if cmd.publisher.get_subscription_count() == 0:
                 print(f"nav-teleop: no cmd_vel subscriber after {SUBSCRIBER_WAIT:.0f} s; replaying anyway "
                       "(is the simulator running, on this ROS_DOMAIN_ID?)", file=sys.stderr)

@@ -10,9 +10,16 @@ Protocol, on topic ``/lockstep/progress`` (std_msgs/Header, reliable, depth 10):
 
 * ``frame_id`` names the participant (``<role>:<pid>``, e.g. ``nav2:4242``); the role is what
   warnings and the simulator's ``lockstep.participants`` list use;
-* ``stamp`` is the newest /clock time whose message this process has taken off its executor's
-  queue. The executor runs callbacks in arrival order, so every scan, odometry and TF message
-  that arrived before that /clock has been processed, and the timers due by then have fired;
+* ``stamp`` is the newest tick T this process has done: its /clock message has been taken off the
+  executor's queue (the executor runs callbacks in arrival order and the simulator sends /clock
+  after the data of the same time, so every scan, odometry and TF message stamped up to T has been
+  processed) and every periodic sim-time timer of the process due at or before T has run
+  (ros_tools/runtime/timers.py: ``earliest_due_ns``). Why the second condition: the /clock that
+  moves the node clock and the one the participant hears are two subscriptions, and the timer
+  manager queues the due timer from its own thread, so a report sent on /clock alone went out
+  before the controller's cycle of the same tick on some runs, and the simulator stepped on
+  meanwhile (docs/architecture.md, "What repeats"). A report withheld for a timer goes out as soon
+  as the timer has run;
 * a zero ``stamp`` says the participant leaves (the runner sends it at teardown) and no longer
   holds the simulator back.
 
@@ -37,6 +44,8 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Header
+
+from ros_tools.runtime import timers
 
 PROGRESS_TOPIC = "/lockstep/progress"
 CLOCK_TOPIC = "/clock"
@@ -84,6 +93,8 @@ class LockstepParticipant:
         self._pub = node.create_publisher(Header, PROGRESS_TOPIC, PROGRESS_QOS)
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
         self._left = False
+        self._owed = False  # the newest /clock was not fully reported: a hold or a due timer kept it back
+        timers.add_after_call(self._report_withheld)
         _PROCESS_PARTICIPANTS.append(self)
 
     @property
@@ -102,9 +113,20 @@ class LockstepParticipant:
                 return
             self._ready = None  # ready once, ready for good
         if self._holds and self._held():
+            self._owed = True
             return
-        if repeated or now >= self._last_report_ns + self._period_ns:
-            self._report(now)
+        done = self._done_ns(now)
+        self._owed = done < now  # a timer still owes a call at or before this tick
+        if done <= self._last_report_ns and not repeated:
+            return
+        if repeated or self._owed or done >= self._last_report_ns + self._period_ns:
+            self._report(done)
+
+    def _done_ns(self, clock_ns: int) -> int:
+        """The newest tick (ns) done, given the newest /clock taken off the queue: one ns before the
+        oldest call a periodic sim-time timer of this process still owes, when that comes earlier."""
+        due = timers.earliest_due_ns(self.node.context)
+        return clock_ns if due is None or due > clock_ns else due - 1
 
     def hold(self, until: Callable[[], bool], grace: float, wake: Any = None) -> None:
         """Report nothing until ``until()`` is true or ``grace`` wall seconds have passed.
@@ -127,11 +149,15 @@ class LockstepParticipant:
             wake.add_done_callback(lambda _future: self._report_withheld())
 
     def _report_withheld(self) -> None:
-        """Report the last /clock taken off the queue if a hold kept it back and none holds any more."""
+        """Report the newest tick done if a hold or a timer still due kept it back and none does now."""
         clock_ns = self._last_clock_ns
-        if self._left or self._ready is not None or clock_ns <= self._last_report_ns or self._held():
+        if (not self._owed or self._left or self._ready is not None or clock_ns <= self._last_report_ns
+                or self._held()):
             return
-        self._report(clock_ns)
+        done = self._done_ns(clock_ns)
+        self._owed = done < clock_ns
+        if done > self._last_report_ns:
+            self._report(done)
 
     def _held(self) -> bool:
         now = time.monotonic()
@@ -175,6 +201,7 @@ class LockstepParticipant:
         """Leave, then destroy the subscription and the publisher."""
         if self in _PROCESS_PARTICIPANTS:
             _PROCESS_PARTICIPANTS.remove(self)
+        timers.remove_after_call(self._report_withheld)
         self.leave()
         self.node.destroy_subscription(self._sub)
         self.node.destroy_publisher(self._pub)

@@ -16,15 +16,27 @@ that leaves it further ahead came before its time. It is dropped and the timer i
 next call is one period after now instead of one period later for every such delivery. (Putting
 the next call back exactly on the old grid, by resetting with a shortened period, made the
 executor deliver the event again at once, hundreds of times until the clock moved on.)
+
+Lockstep order (docs/architecture.md, "What repeats"): a process may tell the simulator it has done
+tick T only once every timer due at or before T has run. :func:`earliest_due_ns` gives the oldest
+slot a sim-time timer of this process still owes, and :func:`add_after_call` lets the lockstep
+participant (ros_tools/runtime/lockstep.py) send the report it withheld as soon as that timer ran.
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
 from typing import Any
 
 from rclpy.clock import Clock
+from rclpy.clock_type import ClockType
 from rclpy.node import Node
+
+#: this process's timers on the ROS clock (sim time under /clock): the ones a lockstep tick waits for
+_SIM_TIMERS: weakref.WeakSet[_DueOnly] = weakref.WeakSet()
+#: called after every delivery of such a timer (due or dropped): the lockstep participant's wake-up
+_AFTER_CALL: list[Callable[[], None]] = []
 
 
 class _DueOnly:
@@ -47,8 +59,19 @@ class _DueOnly:
             self.node.get_logger().debug(
                 f"dropped a timer event before its time ({getattr(self.callback, '__name__', 'callback')}, "
                 f"{self.dropped} so far)", throttle_duration_sec=10.0)
-            return
-        self.callback()
+        else:
+            self.callback()
+        for hook in list(_AFTER_CALL):
+            hook()
+
+    def next_call_ns(self) -> int | None:
+        """The clock time (ns) of the call this timer owes next; None when canceled or destroyed."""
+        timer = self.timer
+        try:
+            ahead = timer.time_until_next_call()
+            return None if ahead is None else int(timer.clock.now().nanoseconds + ahead)
+        except Exception:  # destroyed with its node (InvalidHandle): it owes nothing any more
+            return None
 
 
 def create_periodic_timer(node: Node, period_s: float, callback: Callable[[], None],
@@ -57,7 +80,34 @@ def create_periodic_timer(node: Node, period_s: float, callback: Callable[[], No
     their time dropped (see the module docstring). ``callback`` must be a plain function."""
     due_only = _DueOnly(node, callback)
     due_only.timer = node.create_timer(period_s, due_only, clock=clock)
+    if due_only.timer.clock.clock_type == ClockType.ROS_TIME:
+        _SIM_TIMERS.add(due_only)
     return due_only.timer
+
+
+def earliest_due_ns(context: Any = None) -> int | None:
+    """The oldest call (ns, ROS clock) that a periodic timer of this process (of nodes on ``context``,
+    when given) still owes; None if none.
+
+    Why: a lockstep participant that reports tick T before the timer due at T has run lets the
+    simulator step on while that cycle is still to come, so the cycle sees data of later steps on one
+    run and not on the next (docs/architecture.md, "What repeats"). The participant reports at most
+    one nanosecond before this time.
+    """
+    owing = [t for t in list(_SIM_TIMERS) if context is None or t.node.context is context]
+    calls = [call for call in (t.next_call_ns() for t in owing) if call is not None]
+    return min(calls, default=None)
+
+
+def add_after_call(hook: Callable[[], None]) -> None:
+    """Run ``hook()`` after every delivery of a periodic sim-time timer of this process."""
+    _AFTER_CALL.append(hook)
+
+
+def remove_after_call(hook: Callable[[], None]) -> None:
+    """Undo :func:`add_after_call` (no error when ``hook`` is not registered)."""
+    if hook in _AFTER_CALL:
+        _AFTER_CALL.remove(hook)
 
 
 def nominal_call_ns(node: Node, timer: Any) -> int:

@@ -165,12 +165,30 @@ def run_against_stack(options: argparse.Namespace, out: StackConsole, machine: s
             signal.signal(sig, handler)
 
 
+#: The machine's ``enable_stamped_cmd_vel`` (ClNav2Z's cmd_vel type) when machine_runtime is not told:
+#: nav-bringup in lockstep stamps velocity commands on both sides, and sim2d ignores the other type.
+_stamped_cmd_vel = [True]
+
+
+def use_stamped_cmd_vel(stamped: bool) -> None:
+    """Set the machines' ``enable_stamped_cmd_vel`` for the stack this command starts (``stack_stamps``)."""
+    _stamped_cmd_vel[0] = stamped
+
+
+def stack_stamps(custom: str | None) -> bool:
+    """Whether the stack takes stamped velocity commands: nav-bringup in lockstep does (its default),
+    a custom command with ``--no-lockstep`` or ``--unstamped-cmd-vel`` does not."""
+    words = shlex.split(custom) if custom else []
+    return "--no-lockstep" not in words and "--unstamped-cmd-vel" not in words
+
+
 @contextmanager
 def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | None = None,
                     overrides: Mapping[str, Any] | None = None) -> Iterator[SmaccRuntime]:
     """``machine`` on its own rclpy context and sim time, with ``params_file`` and ``overrides`` (name →
     value) as its parameters; not yet spinning nor started, so observers can be added first. Shut down,
-    context included, when the block ends."""
+    context included, when the block ends. ``enable_stamped_cmd_vel`` follows the stack
+    (:func:`use_stamped_cmd_vel`) unless ``overrides`` set it."""
     import rclpy
     from rclpy.context import Context
     from rclpy.parameter import Parameter
@@ -178,8 +196,9 @@ def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | No
     from smacc_py.ros.runtime import SmaccRuntime
 
     args = ["--ros-args", "--params-file", str(params_file)] if params_file else []
+    values = {"enable_stamped_cmd_vel": _stamped_cmd_vel[0], **(overrides or {})}
     parameters = [Parameter("use_sim_time", value=True),
-                  *(Parameter(name, value=value) for name, value in (overrides or {}).items())]
+                  *(Parameter(name, value=value) for name, value in values.items())]
     context = Context()
     rclpy.init(args=args, context=context)
     runtime = None

@@ -28,6 +28,7 @@ from action_msgs.srv import CancelGoal
 from bond.msg import Status
 from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import BackUp, DockRobot, DriveOnHeading, FollowPath, NavigateToPose, Spin, UndockRobot
+from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from ros_tools.cmd_vel import CmdVelPublisher
@@ -76,15 +77,16 @@ class ClNav2Z(ISmaccClient):
 
     It also owns the machine's ``cmd_vel_topic`` publisher (geometry_msgs/Twist, created at startup so it
     is discovered before a behavior needs it) for the behaviors that command velocities directly. The
-    machine's parameter ``enable_stamped_cmd_vel`` (Nav2 Jazzy's name, default false) makes it a
-    TwistStamped publisher stamped with the machine clock, as the robot (sim2d) then expects; sim2d
-    applies a stamped command at its stamp plus a fixed delay, so its effect does not depend on when
-    it arrived.
+    machine's parameter ``enable_stamped_cmd_vel`` (Nav2 Jazzy's name) true makes it a TwistStamped
+    publisher stamped with the machine clock, as the robot (sim2d) then expects; sim2d applies a
+    stamped command at its stamp plus a fixed delay, so its effect does not depend on when it arrived.
+    Unset, it follows the type the robot's cmd_vel subscription takes (nav-bringup's simulator takes
+    TwistStamped in lockstep): a machine run by hand beside the stack needs no flag.
     """
 
     def __init__(self, action_names: dict[str, str] | None = None, cmd_vel_topic: str = "/cmd_vel") -> None:
         self.cmd_vel_topic = cmd_vel_topic
-        self.stamped = False  # set from the machine's enable_stamped_cmd_vel in on_initialize
+        self.stamped = False  # the cmd_vel type at startup (the parameter, else the robot's, else Twist)
         unknown = set(action_names or {}) - set(ACTION_TYPES)
         if unknown:
             raise ValueError(f"ClNav2Z: unknown action keys {sorted(unknown)}; known: {sorted(ACTION_TYPES)}")
@@ -100,10 +102,13 @@ class ClNav2Z(ISmaccClient):
         self.node = ctx.node
         for key, action_type in ACTION_TYPES.items():
             self._clients[key] = RosActionClient(ctx.node, action_type, self.action_names[key])
-        if not ctx.node.has_parameter(STAMPED_PARAMETER):
-            ctx.node.declare_parameter(STAMPED_PARAMETER, False)
-        self.stamped = bool(ctx.node.get_parameter(STAMPED_PARAMETER).value)
-        self._cmd_vel = CmdVelPublisher(ctx.node, self.stamped, topic=self.cmd_vel_topic)
+        if not ctx.node.has_parameter(STAMPED_PARAMETER):  # unset: follow the robot's cmd_vel type
+            ctx.node.declare_parameter(STAMPED_PARAMETER, Parameter.Type.BOOL)
+        value = ctx.node.get_parameter(STAMPED_PARAMETER).value
+        self._cmd_vel = CmdVelPublisher(ctx.node, None if value is None else bool(value),
+                                        topic=self.cmd_vel_topic)
+        self._cmd_vel.follow_subscribers()  # the robot may be known already (smacc-run after nav-bringup)
+        self.stamped = self._cmd_vel.stamped
         # Created with the machine, so that it is discovered before CbAbortNavigation needs it.
         self._cancel_every_goal = ctx.node.create_client(CancelGoal, self.cancel_service_name)
 

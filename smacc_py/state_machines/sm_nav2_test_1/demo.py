@@ -37,6 +37,8 @@ from smacc_py.state_machines.stack_run import (
     add_nav_params_argument,
     parse_rtf,
     run_against_stack,
+    stack_stamps,
+    use_stamped_cmd_vel,
 )
 
 DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_nav2_test_1.yaml"
@@ -128,6 +130,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
 def main(argv: Sequence[str] | None = None) -> int:
     keep_dds_local()  # before the machine's node: Fast DDS reads the settings once
     options = parse_args(argv)
+    use_stamped_cmd_vel(stack_stamps(options.bringup))  # the machine's spins publish what sim2d takes
     from ros_tools.console import StackConsole
     from ros_tools.status_line import StatusLine
 

@@ -1,8 +1,9 @@
-"""scripts/repeatability.py (docs/architecture.md, "What repeats"): where two recordings of a run first differ.
+"""scripts/repeatability.py (docs/architecture.md, "What repeats"): where two recordings of a run part.
 
 Two synthetic runs (tests/helpers/bag_synthetic.py) with the same seed are the same run recorded
-twice: the script says so and exits 0. Another seed changes only AMCL's estimates: the script names
-/amcl_pose, its first stamp (sim time 100 s) and exits 1, while the ground truth still agrees.
+twice: the script says so, ends with the verdict "identical" and exits 0. Another seed changes only
+AMCL's estimates: the script names /amcl_pose, its first stamp (sim time 100 s), ends with
+"differ: first part at sim time 100.000 s on /amcl_pose" and exits 1, while the ground truth agrees.
 """
 
 from __future__ import annotations
@@ -33,3 +34,7 @@ def test_the_same_run_recorded_twice_agrees_and_a_changed_estimate_is_named(tmp_
     lines = {line.split()[0]: line for line in differs.stdout.splitlines() if line.startswith("/")}
     assert "first differs at stamp 100.000 s" in lines["/amcl_pose"], differs.stdout
     assert "identical" in lines["/ground_truth"], differs.stdout
+    # the verdict, last: one word first, then where and at which sim time the runs part
+    assert same.stdout.splitlines()[-1].startswith("identical: 2 topics"), same.stdout
+    assert differs.stdout.splitlines()[-1] == "differ: first part at sim time 100.000 s on /amcl_pose", \
+        differs.stdout
