@@ -37,7 +37,14 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ros_tools.scenarios.process_faults import FreezeBook, role_pid, send, simulator_pid, target_of
+from ros_tools.scenarios.process_faults import (
+    FreezeBook,
+    process_exists,
+    role_pid,
+    send,
+    simulator_pid,
+    target_of,
+)
 from ros_tools.scenarios.sim_events import SIM_EVENTS, Applier, sim_applier
 
 ROLE = "scenario_events"
@@ -109,7 +116,7 @@ class _ProcessTargets:
     def _heard(self, msg: Any) -> None:
         for target in self._targets - {"simulator"}:
             pid = role_pid(target, msg.frame_id)
-            if pid is not None and (target not in self._pids or not _alive(self._pids[target])):
+            if pid is not None and (target not in self._pids or not process_exists(self._pids[target])):
                 self._pids[target] = pid
 
     def pid(self, target: str) -> int | None:
@@ -118,16 +125,6 @@ class _ProcessTargets:
             if found is not None:
                 self._pids[target] = found
         return self._pids.get(target)
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def _process_applier(node: Any, kind: str, pids: _ProcessTargets, book: FreezeBook, steady: Any) -> Applier:

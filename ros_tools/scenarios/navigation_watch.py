@@ -14,26 +14,15 @@ so its lockstep gate holds the world until a new process of that role joins (sim
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable
 from typing import Any
 
 from ros_tools.scenarios.navigation_kill import navigation_pid
+from ros_tools.scenarios.process_faults import process_exists
 
 #: wall s after the new process reported, without /amcl_pose, before a goal is sent anyway
 POSE_WAIT_LIMIT = 10.0
-
-
-def process_exists(pid: int) -> bool:
-    """Whether ``pid`` names a process on this machine (signal 0: an existence check only)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 class NavigationWatch:

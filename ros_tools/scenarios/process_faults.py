@@ -27,6 +27,17 @@ from pathlib import Path
 
 from ros_tools.scenarios.navigation_kill import NAVIGATION_ROLES, descends_from
 
+
+def process_exists(pid: int) -> bool:
+    """Whether ``pid`` names a process on this machine (signal 0: an existence check only)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
 #: lockstep roles (``<role>:<pid>`` on /lockstep/progress) of each participant target
 TARGET_ROLES = {"navigation": NAVIGATION_ROLES, "localization": ("localization",)}
 SIMULATOR_MODULE = "sim2d.ros.cli"

@@ -167,19 +167,22 @@ def run_against_stack(options: argparse.Namespace, out: StackConsole, machine: s
 
 #: The machine's ``enable_stamped_cmd_vel`` (ClNav2Z's cmd_vel type) when machine_runtime is not told:
 #: nav-bringup in lockstep stamps velocity commands on both sides, and sim2d ignores the other type.
-_stamped_cmd_vel = [True]
+#: None leaves it unset: ClNav2Z then follows the type the robot's subscription takes.
+_stamped_cmd_vel: list[bool | None] = [True]
 
 
-def use_stamped_cmd_vel(stamped: bool) -> None:
+def use_stamped_cmd_vel(stamped: bool | None) -> None:
     """Set the machines' ``enable_stamped_cmd_vel`` for the stack this command starts (``stack_stamps``)."""
     _stamped_cmd_vel[0] = stamped
 
 
-def stack_stamps(custom: str | None) -> bool:
+def stack_stamps(custom: str | None, extra: Sequence[str] = ()) -> bool | None:
     """Whether the stack takes stamped velocity commands: nav-bringup in lockstep does (its default),
-    a custom command with ``--no-lockstep`` or ``--unstamped-cmd-vel`` does not."""
-    words = shlex.split(custom) if custom else []
-    return "--no-lockstep" not in words and "--unstamped-cmd-vel" not in words
+    not with ``--no-lockstep`` or ``--unstamped-cmd-vel`` among ``extra`` (its added arguments); of a
+    custom stack command (``custom``) nothing is known: None, the machine follows the robot's type."""
+    if custom:
+        return None
+    return "--no-lockstep" not in extra and "--unstamped-cmd-vel" not in extra
 
 
 @contextmanager
@@ -196,7 +199,8 @@ def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | No
     from smacc_py.ros.runtime import SmaccRuntime
 
     args = ["--ros-args", "--params-file", str(params_file)] if params_file else []
-    values = {"enable_stamped_cmd_vel": _stamped_cmd_vel[0], **(overrides or {})}
+    stamped = {} if _stamped_cmd_vel[0] is None else {"enable_stamped_cmd_vel": _stamped_cmd_vel[0]}
+    values = {**stamped, **(overrides or {})}
     parameters = [Parameter("use_sim_time", value=True),
                   *(Parameter(name, value=value) for name, value in values.items())]
     context = Context()

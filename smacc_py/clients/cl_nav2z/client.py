@@ -28,6 +28,7 @@ from action_msgs.srv import CancelGoal
 from bond.msg import Status
 from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import BackUp, DockRobot, DriveOnHeading, FollowPath, NavigateToPose, Spin, UndockRobot
+from rclpy.exceptions import ParameterUninitializedException
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -104,7 +105,10 @@ class ClNav2Z(ISmaccClient):
             self._clients[key] = RosActionClient(ctx.node, action_type, self.action_names[key])
         if not ctx.node.has_parameter(STAMPED_PARAMETER):  # unset: follow the robot's cmd_vel type
             ctx.node.declare_parameter(STAMPED_PARAMETER, Parameter.Type.BOOL)
-        value = ctx.node.get_parameter(STAMPED_PARAMETER).value
+        try:
+            value = ctx.node.get_parameter(STAMPED_PARAMETER).value
+        except ParameterUninitializedException:  # declared by type only: not set
+            value = None
         self._cmd_vel = CmdVelPublisher(ctx.node, None if value is None else bool(value),
                                         topic=self.cmd_vel_topic)
         self._cmd_vel.follow_subscribers()  # the robot may be known already (smacc-run after nav-bringup)

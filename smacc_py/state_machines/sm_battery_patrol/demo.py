@@ -147,8 +147,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ros_tools.console import StackConsole
 
     options = parse_args(argv)
-    stack_run.use_stamped_cmd_vel(stack_run.stack_stamps(options.bringup)
-                                  and stack_run.stack_stamps(" ".join(options.bringup_arg)))
+    stack_run.use_stamped_cmd_vel(stack_run.stack_stamps(options.bringup, options.bringup_arg))
     use_sim_params = options.sim_params is not None and not options.bringup
     sim_params = ["--sim-params", str(options.sim_params)] if use_sim_params else []
     console = StackConsole(options.verbose, "patrol")

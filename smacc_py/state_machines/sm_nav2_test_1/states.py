@@ -206,15 +206,10 @@ def _count_navigation_retry(state: SmaccState) -> None:
                 type(state).__name__, retries, MAX_NAVIGATION_RETRIES)
 
 
-class StRecoverNavigation1(SmaccState):
-    """Wait for Nav2's bonds (a respawned stack), then drive to waypoint 1 again; ABORT if it does not
-    come back within CbWaitNav2Nodes' timeout or after MAX_NAVIGATION_RETRIES retries."""
-
-    reactions = [
-        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint1", SUCCESS),
-        Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
-        Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
-    ]
+class _RecoverNavigation(SmaccState):
+    """Wait for Nav2's bonds (a respawned stack), then drive to the waypoint again (the subclass's
+    SUCCESS target); ABORT if Nav2 does not come back within CbWaitNav2Nodes' timeout or after
+    MAX_NAVIGATION_RETRIES retries. Not a state itself: the two below are."""
 
     @classmethod
     def static_configure(cls) -> None:
@@ -225,22 +220,24 @@ class StRecoverNavigation1(SmaccState):
         _count_navigation_retry(self)
 
 
-class StRecoverNavigation2(SmaccState):
-    """StRecoverNavigation1 for waypoint 2."""
-
-    reactions = [
-        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], "StNavigateToWaypoint2", SUCCESS),
+def _recovery_reactions(waypoint_state: str) -> list[Transition]:
+    return [
+        Transition(EvCbSuccess[CbWaitNav2Nodes, OrNavigation], waypoint_state, SUCCESS),
         Transition(EvCbFailure[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
         Transition(EvMaxRetriesExceeded[CbWaitNav2Nodes, OrNavigation], "StFinalState", ABORT),
     ]
 
-    @classmethod
-    def static_configure(cls) -> None:
-        cls.configure_orthogonal(OrNavigation, CbWaitNav2Nodes)
-        cls.configure_orthogonal(OrKeyboard, CbDefaultKeyboardBehavior)
 
-    def runtime_configure(self) -> None:
-        _count_navigation_retry(self)
+class StRecoverNavigation1(_RecoverNavigation):
+    """Back to waypoint 1 once Nav2 is back."""
+
+    reactions = _recovery_reactions("StNavigateToWaypoint1")
+
+
+class StRecoverNavigation2(_RecoverNavigation):
+    """Back to waypoint 2 once Nav2 is back."""
+
+    reactions = _recovery_reactions("StNavigateToWaypoint2")
 
 
 class StFinalState(SmaccState):
