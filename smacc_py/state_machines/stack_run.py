@@ -179,10 +179,12 @@ def use_stamped_cmd_vel(stamped: bool | None) -> None:
 def stack_stamps(custom: str | None, extra: Sequence[str] = ()) -> bool | None:
     """Whether the stack takes stamped velocity commands: nav-bringup in lockstep does (its default),
     not with ``--no-lockstep`` or ``--unstamped-cmd-vel`` among ``extra`` (its added arguments); of a
-    custom stack command (``custom``) nothing is known: None, the machine follows the robot's type."""
-    if custom:
+    custom stack command (``custom``) that runs nav-bringup the same holds of its own arguments; of any
+    other nothing is known: None, the machine follows the robot's type."""
+    words = [*shlex.split(custom or ""), *extra]
+    if custom and not any(word.endswith(("nav-bringup", "nav_stack.ros.bringup")) for word in words):
         return None
-    return "--no-lockstep" not in extra and "--unstamped-cmd-vel" not in extra
+    return "--no-lockstep" not in words and "--unstamped-cmd-vel" not in words
 
 
 @contextmanager
