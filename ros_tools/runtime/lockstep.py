@@ -54,6 +54,8 @@ CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
 #: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 10 s)
 REQUEST_HOLD = 2.0
+#: wall s a report waits for a sim-time timer due at its tick before the tick counts as done anyway
+OWED_GRACE = 0.5
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
 
@@ -94,6 +96,7 @@ class LockstepParticipant:
         self._sub = node.create_subscription(Clock, CLOCK_TOPIC, self._on_clock, CLOCK_QOS)
         self._left = False
         self._owed = False  # the newest /clock was not fully reported: a hold or a due timer kept it back
+        self._owed_since: tuple[int, float] | None = None  # (the owed call's ns, wall s it was first seen)
         timers.add_after_call(self._report_withheld)
         _PROCESS_PARTICIPANTS.append(self)
 
@@ -124,9 +127,28 @@ class LockstepParticipant:
 
     def _done_ns(self, clock_ns: int) -> int:
         """The newest tick (ns) done, given the newest /clock taken off the queue: one ns before the
-        oldest call a periodic sim-time timer of this process still owes, when that comes earlier."""
+        oldest call a periodic sim-time timer of this process still owes, when that comes earlier.
+
+        A timer is waited for OWED_GRACE wall seconds at most: past that the tick counts as done. Why:
+        rclpy's EventsExecutor can miss a sim-time timer's wake-up (it has no support for a ROS clock
+        that jumps; ros2/rclcpp#2457), and a report withheld for a call that never comes stopped the
+        world for good (CI run 6: a patrol and two farm runs hung for minutes on a loaded machine).
+        The simulator re-sends /clock every 0.1 s while it waits, so the grace is checked then.
+        """
         due = timers.earliest_due_ns(self.node.context)
-        return clock_ns if due is None or due > clock_ns else due - 1
+        if due is None or due > clock_ns:
+            self._owed_since = None
+            return clock_ns
+        wall = time.monotonic()
+        if self._owed_since is None or self._owed_since[0] != due:
+            self._owed_since = (due, wall)
+        elif wall - self._owed_since[1] > OWED_GRACE:
+            self.node.get_logger().warning(
+                f"lockstep: a timer due at sim time {due * 1e-9:.3f} s has not run {OWED_GRACE} s (wall) "
+                "after its tick; reporting the tick done without it (the executor missed its wake-up)",
+                throttle_duration_sec=10.0)
+            return clock_ns
+        return due - 1
 
     def hold(self, until: Callable[[], bool], grace: float, wake: Any = None) -> None:
         """Report nothing until ``until()`` is true or ``grace`` wall seconds have passed.
