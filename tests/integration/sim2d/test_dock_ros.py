@@ -98,8 +98,6 @@ def test_driving_onto_the_dock_charges_and_the_tag_is_seen_only_when_faced(ros_c
 
         spin_until(executor, arrived, 30.0, "the robot to reach the dock")
         cmd.publish(Twist())
-        on_contacts = min(_sim_time(m.header.stamp) for m in received["/ground_truth"]
-                          if m.pose.pose.position.x >= CONTACT_X - 0.05)
 
         def charging() -> list[BatteryState]:
             return [m for m in received["/battery_state"]
@@ -108,8 +106,9 @@ def test_driving_onto_the_dock_charges_and_the_tag_is_seen_only_when_faced(ros_c
         spin_until(executor, lambda: len(charging()) >= 2, 20.0, "CHARGING on /battery_state")
         first = charging()[0]
         assert first.current > 0.5                 # Nav2's SimpleChargingDock: charging_threshold 0.5 A
-        assert _sim_time(first.header.stamp) - on_contacts < 1.0
-        # not at the next 1 Hz slot: in the step the robot came to rest on the contacts (ground truth: 30 Hz)
+        # In the step the robot came to rest on the contacts (ground truth: 30 Hz), not at the next 1 Hz
+        # slot. Measured from the rest, not from the first pose within reach: the time between the two is
+        # this client's stop latency on the wall clock (1.09 s of sim time on a loaded CI machine, run 8).
         at_rest = min(_sim_time(m.header.stamp) for m in received["/ground_truth"]
                       if m.pose.pose.position.x >= CONTACT_X - 0.05 and abs(m.twist.twist.linear.x) < 0.01)
         assert abs(_sim_time(first.header.stamp) - at_rest) <= 1.0 / 30.0 + 0.005
