@@ -15,10 +15,12 @@ from __future__ import annotations
 
 import logging
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
 from ros_tools.runtime.executor import add_executor_argument, make_executor
+from ros_tools.runtime.executor_watch import ExecutorWatch
 from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
 
 _log = logging.getLogger("ros_tools.runtime")
@@ -85,6 +87,9 @@ def spin_until_shutdown(executor: Any, name: str = "process",
     from rclpy.executors import ExternalShutdownException
 
     stop = StopOnSignal()
+    watch = ExecutorWatch(executor, name)
+    watch.spinning_thread = threading.get_ident()
+    watch.start()
     try:
         while executor.context.ok() and not stop.requested and not (stopped is not None and stopped()):
             try:
@@ -98,6 +103,7 @@ def spin_until_shutdown(executor: Any, name: str = "process",
                     return
                 _log.exception("%s: a callback raised; the executor keeps spinning", name)
     finally:
+        watch.stop()
         stop.restore()
 
 

@@ -6,7 +6,8 @@ behavior hooks; see ``dispatch.py``) and the ISmaccUpdatable polling, which a no
 ``signal_detector_loop_freq`` (20 Hz) runs directly. No callback waits for another thread, so the
 order of everything follows the order of the executor's callbacks, not the load of the machine.
 The only other threads are those of SmaccAsyncClientBehavior's ``on_entry`` (SMACC2's semantics
-for user code); their posts reach the executor thread through ``executor.create_task``.
+for user code), whose posts reach the executor thread through ``executor.create_task``, and an
+``ExecutorWatch`` that says when the executor falls behind (ros_tools/runtime/executor_watch.py).
 
 The executor is rclpy's C++ EventsExecutor by default (``executor="single"`` or
 ``NAVSUITE_EXECUTOR=single`` falls back to the SingleThreadedExecutor; see
@@ -36,6 +37,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.executor_watch import ExecutorWatch
 from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
 from ros_tools.runtime.timers import create_periodic_timer
 from smacc_py.core import SmaccEngineParams, SmaccError, SmaccStateMachineBase
@@ -125,6 +127,7 @@ class SmaccRuntime:
         self.executor = make_executor(executor, context)
         self.executor.add_node(self.node)
         self.dispatch = ExecutorDispatch(self.sm, self.executor)
+        self.watch = ExecutorWatch(self.executor, self.sm.name, self.node.get_logger())
         self._first_clock = FirstClock(self.node, self.executor, self._enter_initial_state)
         self._built_at = time.monotonic()  # DDS discovery of the machine's entities starts here
         self._start_requested_at: float | None = None  # time.monotonic() of start()
@@ -186,7 +189,8 @@ class SmaccRuntime:
         ``spin_once`` with a timeout rather than ``spin()``: this rclpy's EventsExecutor.spin() polls
         without sleeping (half a core when idle) and starves ``create_task`` from other threads.
         """
-        self._spin_thread = threading.get_ident()
+        self._spin_thread = self.watch.spinning_thread = threading.get_ident()
+        self.watch.start()
         try:
             while not self._stopping and not self._stop_requested and self.executor.context.ok():
                 try:
@@ -198,7 +202,8 @@ class SmaccRuntime:
                         return
                     _log.exception("%s: a callback raised; the executor keeps spinning", self.sm.name)
         finally:
-            self._spin_thread = None
+            self._spin_thread = self.watch.spinning_thread = None
+            self.watch.stop()
 
     def request_stop(self) -> None:
         """Make ``spin()`` return after the executor turn in progress (at most SPIN_WAKE_S); safe from a
