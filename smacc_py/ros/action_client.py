@@ -13,6 +13,8 @@ from __future__ import annotations
 import enum
 import logging
 import threading
+import time
+import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -55,6 +57,10 @@ class GoalTicket:
         self._handle: Any = None
         self._cancel_requested = False
         self._done = threading.Event()
+        self.sent_at = time.monotonic()  # wall s: what a wait that never ends is measured against
+        self.accepted_at: float | None = None  # wall s the server's acceptance arrived
+        self.feedbacks = 0  # feedback messages received: a server that still sends them is alive
+        self.last_feedback_at: float | None = None  # wall s
 
     @property
     def done(self) -> bool:
@@ -91,6 +97,21 @@ class GoalTicket:
             return f"{self.outcome.value} (error_code {self.error_code}: {self.error_msg})"
         return self.outcome.value
 
+    def waiting_for(self, now: float | None = None) -> str:
+        """What a pending goal waits for, in wall seconds, e.g. ``NavigateToPose goal: accepted 95.2 s
+        ago, 812 feedback messages, the last 0.1 s ago`` (a server alive and working) or ``... sent
+        12.0 s ago, not accepted yet`` (the request or its answer is lost, or the server is gone)."""
+        now = time.monotonic() if now is None else now
+        name = self.action_name.rsplit("/", 1)[-1] or self.action_name
+        if self.done:
+            return f"{name} goal: {self.describe()}"
+        if self.accepted_at is None:
+            return f"{name} goal: sent {now - self.sent_at:.1f} s ago, not accepted yet"
+        if self.last_feedback_at is None:
+            return f"{name} goal: accepted {now - self.accepted_at:.1f} s ago, no feedback yet"
+        return (f"{name} goal: accepted {now - self.accepted_at:.1f} s ago, {self.feedbacks} feedback "
+                f"messages, the last {now - self.last_feedback_at:.1f} s ago")
+
     def finish(self, outcome: GoalOutcome, result: Any) -> None:
         """Record how the goal ended (its action client calls this when the result arrives)."""
         self.outcome, self.result = outcome, result
@@ -112,6 +133,17 @@ class GoalTicket:
     def wait(self, timeout_s: float) -> bool:
         """Block the calling (non-executor) thread up to ``timeout_s`` s for the outcome; tests use it."""
         return self._done.wait(timeout_s)
+
+
+#: every goal this process sent that is still referenced (tickets are dropped with their owners)
+_SENT: weakref.WeakSet[GoalTicket] = weakref.WeakSet()
+
+
+def pending_goals() -> list[str]:
+    """What each goal of this process that has not ended waits for (``GoalTicket.waiting_for``), oldest
+    first: what a state machine that times out in a state says it was waiting for."""
+    tickets = sorted((t for t in list(_SENT) if not t.done and not t.abandoned), key=lambda t: t.sent_at)
+    return [ticket.waiting_for() for ticket in tickets]
 
 
 DoneCallback = Callable[[GoalTicket], None]
@@ -146,10 +178,13 @@ class RosActionClient:
     ) -> GoalTicket:
         """Send ``goal``; ``on_done(ticket)`` and ``on_feedback(ticket, feedback)`` run on the executor."""
         ticket = GoalTicket(self.action_name, goal)
+        _SENT.add(ticket)
         with self._lock:
             self._active = [t for t in self._active if not t.done] + [ticket]
 
         def feedback(message: Any) -> None:
+            ticket.feedbacks += 1
+            ticket.last_feedback_at = time.monotonic()
             if on_feedback is not None and not ticket.done:
                 on_feedback(ticket, message.feedback)
 
@@ -170,6 +205,7 @@ class RosActionClient:
             if handle is None or not handle.accepted:
                 finish(GoalOutcome.REJECTED, None)
                 return
+            ticket.accepted_at = time.monotonic()
             with ticket._lock:
                 ticket._handle = handle
                 cancel = ticket._cancel_requested

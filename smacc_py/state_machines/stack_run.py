@@ -260,7 +260,10 @@ class MissionEnd:
         if self.interrupted:
             return EXIT_INTERRUPTED, "interrupted"
         if self.timed_out:
-            return EXIT_TIMEOUT, f"TIMEOUT after {timeout_s:.0f} s wall in {where}"
+            from smacc_py.ros.action_client import pending_goals
+
+            waits = "".join(f"; waiting for the {goal}" for goal in pending_goals())
+            return EXIT_TIMEOUT, f"TIMEOUT after {timeout_s:.0f} s wall in {where}{waits}"
         return EXIT_STACK, f"the stack stopped (exit code {self.stack_code}) before the {what} ended"
 
 
