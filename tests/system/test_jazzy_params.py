@@ -59,7 +59,7 @@ def test_the_seed_mission_succeeds_on_nav2_jazzys_own_parameter_file(tmp_path: P
            "--timeout", "600", "--nav-params", str(JAZZY), "--params-file", str(MACHINE_PARAMS),
            "--report", str(report), "--log-dir", str(tmp_path / "logs")]
     done = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=900)
-    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
+    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-8000:]
     transitions = [line.split("] ", 2)[-1].split(" on ")[0] for line in done.stdout.splitlines()
                    if line.startswith("[demo] [t=")]
     assert transitions == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]

@@ -96,7 +96,7 @@ def test_demo_completes_the_mission_through_success(tmp_path: Path, ros_context:
     transitions and a summary in under 40 lines) and every process's full log is in artifacts/logs."""
     report = tmp_path / "demo_report.png"
     done = _demo(report, "--timeout", "600", cwd=tmp_path)
-    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
+    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-8000:]
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]
     assert "result: SUCCESS" in done.stdout
     assert len(done.stdout.splitlines()) < 40, done.stdout
@@ -115,7 +115,7 @@ def test_demo_completes_the_mission_through_success(tmp_path: Path, ros_context:
 @pytest.mark.timeout(900)
 def test_waypoint_beyond_the_outer_wall_aborts_with_the_planners_error(tmp_path: Path) -> None:
     done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint1", "5.0,3.0,1.57")
-    assert done.returncode == 1, done.stdout[-5000:] + done.stderr[-2000:]
+    assert done.returncode == 1, done.stdout[-5000:] + done.stderr[-8000:]
     transitions = _transitions(done.stdout)
     assert transitions[:2] == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS[:2]]
     assert transitions[-1] == "StNavigateToWaypoint1 -> StFinalState [ABORT]"
@@ -132,7 +132,7 @@ def test_waypoint_beyond_the_outer_wall_aborts_with_the_planners_error(tmp_path:
 def test_demo_runs_the_mission_with_a_tb4(tmp_path: Path) -> None:
     """``--robot tb4`` reaches nav-bringup: the TurtleBot4's simulation and parameters do the same mission."""
     done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--robot", "tb4", "--no-report")
-    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
+    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-8000:]
     assert "--robot tb4" in done.stdout.splitlines()[0]  # "[demo] starting the stack: ..."
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]
 
@@ -143,5 +143,5 @@ def test_upstreams_second_waypoint_in_a_pillar_succeeds_within_the_planner_toler
     reachable point instead, so the goal succeeds, as it does with Nav2 (docs/demo.md says so)."""
     done = _demo(tmp_path / "demo_report.png", "--timeout", "600", "--waypoint2", "0,0,0",
                  "--no-report")
-    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-2000:]
+    assert done.returncode == 0, done.stdout[-5000:] + done.stderr[-8000:]
     assert _transitions(done.stdout) == [f"{s} -> {t} [{tag}]" for s, t, tag in NOMINAL_TRANSITIONS]
