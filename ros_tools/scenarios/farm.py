@@ -2,13 +2,18 @@
 plugin share.
 
 Selection (``select``) and artifact layout (``<out>/<scenario name>/``) live here too, so the command
-and the plugin pick and store alike. Ctrl-C (KeyboardInterrupt in the waiting thread) cancels the
+and the plugin pick and store alike. Each run also records what ``navsuite-scenarios rerun`` needs to
+replay one of its scenarios exactly: ``<out>/farm.json`` (the scenario file's path and SHA-256) and a
+copy of the file, ``<out>/scenarios.yaml``. Ctrl-C (KeyboardInterrupt in the waiting thread) cancels the
 executor: running workers get SIGTERM, queued ones never start, and their results say so.
 """
 
 from __future__ import annotations
 
 import fnmatch
+import hashlib
+import json
+import shutil
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import replace
@@ -21,6 +26,7 @@ from ros_tools.scenarios.summary import ScenarioResult
 from ros_tools.scenarios.verdict import Outcome, judge
 
 POLL = 0.5  # wall s between redraws of the live table while waiting
+FARM_RECORD, SCENARIO_COPY = "farm.json", "scenarios.yaml"  # in a run's output directory
 
 
 def select(scenarios: Sequence[Scenario], patterns: Sequence[str]) -> list[Scenario]:
@@ -37,6 +43,7 @@ def run_all(scenarios: Sequence[Scenario], source: Path, out_dir: Path, executor
             tick: Callable[[], None] | None = None) -> list[ScenarioResult]:
     """Submit every scenario, wait for all; results in the file's order. KeyboardInterrupt cancels the
     rest, and is re-raised once every worker is down."""
+    record_run(source, out_dir, [s.name for s in scenarios])
     futures: dict[Future[Outcome], Scenario] = {}
     for scenario in scenarios:
         job = Job(scenario, source, out_dir / scenario.name)
@@ -59,6 +66,20 @@ def run_all(scenarios: Sequence[Scenario], source: Path, out_dir: Path, executor
         raise
     executor.shutdown()
     return [results[s.name] for s in scenarios]
+
+
+def file_digest(path: Path) -> str:
+    """SHA-256 of a file's bytes (hex): whether a scenario file is still the one a run used."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def record_run(source: Path, out_dir: Path, names: Sequence[str]) -> None:
+    """Write ``farm.json`` and the copy of ``source`` into ``out_dir`` (see the module docstring)."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    record = {"source": str(source.resolve()), "sha256": file_digest(source), "scenarios": list(names)}
+    (out_dir / FARM_RECORD).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+    if source.resolve() != (out_dir / SCENARIO_COPY).resolve():
+        shutil.copyfile(source, out_dir / SCENARIO_COPY)
 
 
 def _judged(scenario: Scenario, future: Future[Outcome]) -> ScenarioResult:
