@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Every guard CI runs, in order of speed; the first failure stops the run with a non-zero exit.
-#   ruff (style and bugs), mypy (every package; strict on */core), import-linter (ARCHITECTURE.md dependency
+#   ruff (style and bugs), mypy (every package; strict on */core), import-linter (docs/architecture.md's dependency
 #   rules), then the test suite. Extra arguments are passed to pytest (e.g. -k amcl, -m "not slow").
 set -euo pipefail
 cd "$(dirname "$0")/.."

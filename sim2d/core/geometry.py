@@ -31,12 +31,6 @@ def regular_polygon(center: tuple[float, float], circumradius: float, sides: int
                             center[1] + circumradius * np.sin(angles)))
 
 
-def polygon_area(vertices: FloatArray) -> float:
-    """Signed area (m²) of a polygon (k, 2); positive when counter-clockwise."""
-    x, y = vertices[:, 0], vertices[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
 def is_convex_ccw(vertices: FloatArray) -> bool:
     """True when the polygon (k, 2) is strictly convex and counter-clockwise."""
     edges = np.roll(vertices, -1, axis=0) - vertices

@@ -1,6 +1,6 @@
 """sim2d's own reader and writer of map_server maps (YAML + PGM).
 
-Why its own: the simulator is an independent model of the world (ARCHITECTURE.md rule 3). If sim2d
+Why its own: the simulator is an independent model of the world (docs/architecture.md, rule 2). If sim2d
 and nav_stack shared one loader, a flipped axis or an off-by-one origin would be invisible.
 
 Conventions (map_server, Nav2 Jazzy): pixel row 0 is the top of the image (largest y); the

@@ -70,10 +70,6 @@ class Tree:
         """Call ``listener(node, previous, new)`` on every node status change."""
         self.context.status_listeners.append(listener)
 
-    def remove_status_listener(self, listener: StatusListener) -> None:
-        """Stop calling ``listener``."""
-        self.context.status_listeners.remove(listener)
-
     def find(self, name: str) -> list[TreeNode]:
         """Nodes whose instance name is ``name``."""
         return [node for node in self.nodes if node.name == name]

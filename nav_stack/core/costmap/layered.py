@@ -18,7 +18,7 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from nav_stack.core.costmap.footprint import Footprint, footprint_cost
+from nav_stack.core.costmap.footprint import Footprint
 from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window, shifted
 from nav_stack.core.costmap.params import CostmapParams
 from nav_stack.core.costmap.static_layer import StaticLayer
@@ -72,11 +72,6 @@ class LayeredCostmap:
     def circumscribed_radius(self) -> float:
         return self._footprint.circumscribed_radius
 
-    def set_footprint(self, footprint: Footprint) -> None:
-        """Change the robot footprint (e.g. a dynamic footprint); inflation is redone next update."""
-        self._footprint = footprint
-        for layer in self.layers:
-            layer.on_footprint(footprint)
 
     def resize(self, spec: GridSpec) -> None:
         """(Re)allocate the master and every layer for ``spec``; everything is redrawn next update."""
@@ -147,6 +142,3 @@ class LayeredCostmap:
             self._costs.fill(self.default_value)
             self._pending = Window.full(self._spec)
 
-    def footprint_cost_at(self, x: float, y: float, yaw: float) -> int:
-        """Highest master cost under the robot footprint at a pose of the costmap frame."""
-        return footprint_cost(self._costs, self.spec, self._footprint, x, y, yaw)
