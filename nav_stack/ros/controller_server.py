@@ -15,9 +15,11 @@ once with NO_VALID_CONTROL (106) when the tolerance is 0 (Nav2's rule). An empty
 INVALID_PATH (103), an unknown id INVALID_CONTROLLER (101), a missing transform TF_ERROR (102).
 
 A new goal while one runs takes over at the next cycle: with the same controller the plugins keep
-their state and only the path changes (no stop, the goal checker restarts); the old goal is aborted
-with error code 0 and "preempted", as Nav2's action server does. A cancel publishes a zero command
-inside the cancel callback, so the next /cmd_vel is zero.
+their state and only the path changes (no stop, the goal checker restarts); when the new path is
+only the rest of the current one toward the same goal (the bt_navigator's 1 Hz replan, within
+``path_reuse_tolerance``) the goal checker keeps its state too (follow_path.PathFollowing.take_over).
+Either way the old goal is aborted with error code 0 and "preempted", as Nav2's action server does.
+A cancel publishes a zero command inside the cancel callback, so the next /cmd_vel is zero.
 """
 
 from __future__ import annotations
@@ -43,7 +45,14 @@ from nav_stack.core.control import (
     PolygonFootprint,
     Twist2D,
 )
-from nav_stack.core.control.follow_path import Action, CycleInputs, Decision, PathFollowing, Plugins
+from nav_stack.core.control.follow_path import (
+    Action,
+    CycleInputs,
+    Decision,
+    PathFollowing,
+    Plugins,
+    Takeover,
+)
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
 from nav_stack.ros.conversions import path_from_array, path_to_array
@@ -63,6 +72,8 @@ from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
 
 Code = ControllerErrorCode
+_TAKEOVER_NOTES = {Takeover.FRESH: "", Takeover.NEW_PATH: " (path updated)",
+                   Takeover.REMAINDER: " (the rest of the current path: only the path changed)"}
 
 
 @dataclass(frozen=True)
@@ -89,10 +100,16 @@ class ControllerServerParams:
     # ends with CONTROLLER_TIMED_OUT naming it (nav_stack/core/control/response.py). 0 / "" = off.
     response_timeout: float = 2.0
     battery_topic: str = "battery_state"
+    # Not in Nav2 (whose C++ controllers make a new path cheap): a preempting goal whose path is the
+    # rest of the current one toward the same goal, within this many m (follow_path.is_remainder),
+    # keeps every plugin's state, the goal checker's latch included; 0 = never.
+    path_reuse_tolerance: float = 0.1
 
     def __post_init__(self) -> None:
         if not self.controller_frequency > 0.0:
             raise ValueError(f"controller_frequency must be > 0 Hz, got {self.controller_frequency}")
+        if not self.path_reuse_tolerance >= 0.0:
+            raise ValueError(f"path_reuse_tolerance must be >= 0 m, got {self.path_reuse_tolerance}")
 
 
 class _PathRun(GoalRun):
@@ -117,6 +134,8 @@ class ControllerServer(NavLifecycleNode):
         self._speed = 0.0  # m/s, from odometry, for the feedback
         self._active = False
         self._entities: list[Any] = []
+        #: what the newest goal kept of the one it preempted (the tests read it; nothing else does)
+        self.last_takeover: Takeover | None = None
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def configure(self) -> None:
@@ -200,19 +219,14 @@ class ControllerServer(NavLifecycleNode):
             return await run.wait()
         old = self._current
         previous = old.following if old is not None and not old.finished else None
-        seamless = previous is not None and previous.ids[0] == ids[0]
         if old is not None:
             old.finish(Outcome.ABORTED, Code.NONE, "preempted by a newer goal")
-        if seamless and previous is not None:
-            plugins.goal_checker.reset()
-            following.continue_from(previous)
-        else:
-            for plugin in (plugins.controller, plugins.goal_checker, plugins.progress_checker,
-                           self._response):
-                plugin.reset()
+        takeover = self.last_takeover = following.take_over(previous, plugins, p.path_reuse_tolerance)
+        if takeover is Takeover.FRESH:
+            self._response.reset()
         self._current = run
         self.get_logger().info(f"following a path of {len(goal.path.poses)} poses with '{ids[0]}'"
-                               + (" (path updated)" if seamless else ""))
+                               + _TAKEOVER_NOTES[takeover])
         return await run.wait()
 
     def _plugins(self, ids: tuple[str, str, str]) -> Plugins:

@@ -18,9 +18,8 @@ slow the machine. A NaN or zero-norm orientation is refused with
 UNKNOWN and a message. Successful paths are published on ``plan``. ``is_path_valid`` reports path
 poses on inscribed/lethal cells or off the map.
 
-A path of a warehouse plan has about a thousand poses (3 cm cells): built with the messages'
-constructors (conversions.path_from_array) it took 14 ms of Python per plan, a sixth of the whole
-navigation process's CPU in bench_large_world; :func:`path_msg` fills the same message in under 1 ms.
+A path of a warehouse plan has about a thousand poses (3 cm cells): the result is built by
+conversions.path_from_array, which fills the messages' slots instead of running their constructors.
 ``plan`` is published only while someone subscribes (it is volatile: nobody could read it later).
 """
 
@@ -32,7 +31,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
 from nav2_msgs.action import ComputePathThroughPoses, ComputePathToPose
 from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
@@ -41,7 +39,6 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 
-from nav_stack.core.geometry import quaternion_from_yaw
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE
 from nav_stack.core.planning import (
     NavfnParams,
@@ -54,7 +51,7 @@ from nav_stack.core.planning import (
     ThroughPosesErrorCode,
 )
 from nav_stack.core.planning.common import GlobalPlanner
-from nav_stack.ros.conversions import duration_msg
+from nav_stack.ros.conversions import duration_msg, path_from_array
 from nav_stack.ros.costmap_ros import CostmapROS, run_transition
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.lifecycle import NavLifecycleNode
@@ -217,7 +214,7 @@ class PlannerServer(NavLifecycleNode):
         result_msg.planning_time = duration_msg(result.planning_time)
         result_msg.error_code, result_msg.error_msg = result.error_code, result.error_msg
         if result.ok:
-            result_msg.path = path_msg(result.path, self.costmap_node.global_frame, stamp)
+            result_msg.path = path_from_array(result.path, self.costmap_node.global_frame, stamp)
             if self._pub_plan.get_subscription_count() > 0:
                 self._pub_plan.publish(result_msg.path)
         if handle.is_cancel_requested:
@@ -269,38 +266,6 @@ class PlannerServer(NavLifecycleNode):
         response.invalid_pose_indices = [int(i) for i in np.nonzero(bad)[0]]
         response.is_valid = not response.invalid_pose_indices
         return response
-
-
-def _bare(cls: Any) -> Any:
-    """An instance of a generated message class without running its ``__init__``; the caller sets
-    every field slot. Why: ``__init__`` builds a default for each nested field even when one is
-    given (PoseStamped() makes a Header, a Time, a Pose, a Point and a Quaternion, 15-20 us)."""
-    msg = cls.__new__(cls)
-    msg._check_fields = False
-    return msg
-
-
-def path_msg(poses: np.ndarray, frame: str, stamp: Any) -> Path:
-    """The nav_msgs/Path of (N, 3) poses (x, y, yaw): the message conversions.path_from_array makes
-    (every pose stamped with the path's header; tests/integration/nav_stack/test_planner_server_path.py
-    compares them field by field), built without the per-pose constructors.
-
-    The poses share one Header object, a fresh one per path: a message is serialised when sent, so
-    sharing is invisible to a subscriber, and no earlier message is changed.
-    """
-    msg = Path()
-    msg.header.frame_id, msg.header.stamp = frame, stamp
-    header = msg.header
-    out = []
-    for x, y, yaw in np.asarray(poses, dtype=np.float64)[:, :3].tolist():
-        point, quaternion, pose, stamped = _bare(Point), _bare(Quaternion), _bare(Pose), _bare(PoseStamped)
-        point._x, point._y, point._z = x, y, 0.0
-        quaternion._x, quaternion._y, quaternion._z, quaternion._w = quaternion_from_yaw(yaw)
-        pose._position, pose._orientation = point, quaternion
-        stamped._header, stamped._pose = header, pose
-        out.append(stamped)
-    msg.poses = out
-    return msg
 
 
 def _with_frame(pose: Any, frame: str) -> Any:

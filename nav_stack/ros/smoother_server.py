@@ -22,6 +22,7 @@ compute time (wall s, what ``max_smoothing_duration`` bounds).
 from __future__ import annotations
 
 import copy
+import math
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -37,7 +38,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
-from nav_stack.core.geometry import FloatArray, from_frame, to_frame, yaw_or_nan
+from nav_stack.core.geometry import FloatArray, from_frame, to_frame
 from nav_stack.core.smoothing import (
     SimpleSmoother,
     SimpleSmootherParams,
@@ -47,7 +48,7 @@ from nav_stack.core.smoothing import (
     SmoothResult,
     check_path,
 )
-from nav_stack.ros.conversions import duration_msg, duration_to_seconds, yaw_to_quaternion
+from nav_stack.ros.conversions import duration_msg, duration_to_seconds, path_to_array, yaw_to_quaternion
 from nav_stack.ros.docking_world import cost_grid
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.lifecycle import NavLifecycleNode
@@ -220,12 +221,9 @@ class SmootherServer(NavLifecycleNode):
 
 
 def path_poses(path: Path) -> FloatArray:
-    """(N, 3) x, y, yaw of a nav_msgs/Path; NaN yaw where the quaternion cannot be normalised."""
-    out = np.empty((len(path.poses), 3))
-    for i, stamped in enumerate(path.poses):
-        p, q = stamped.pose.position, stamped.pose.orientation
-        out[i] = (p.x, p.y, yaw_or_nan(q.x, q.y, q.z, q.w))
-    return out
+    """(N, 3) x, y, yaw of a nav_msgs/Path; NaN yaw where the quaternion cannot be normalised (the
+    core refuses it as INVALID_PATH)."""
+    return path_to_array(path, invalid_yaw=math.nan)
 
 
 def with_poses(path: Path, poses: FloatArray) -> Path:

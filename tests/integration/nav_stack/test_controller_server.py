@@ -27,6 +27,7 @@ from nav_msgs.msg import Path
 from rclpy.node import Node
 from std_msgs.msg import String
 
+from nav_stack.core.control.follow_path import Takeover
 from nav_stack.ros import controller_server, planner_server
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.lockstep import LockstepParticipant
@@ -114,6 +115,12 @@ class Stack:
     def moving(self) -> bool:
         return bool(self.cmds) and abs(self.cmds[-1].linear.x) > 0.05
 
+    def takeover(self) -> Takeover | None:
+        """What the controller server's newest goal kept of the one it preempted."""
+        server = self.controller_nodes[0]
+        assert isinstance(server, controller_server.ControllerServer)
+        return server.last_takeover
+
 
 @pytest.fixture
 def stack(ros_context: Any, sim: subprocess.Popen[str]) -> Iterator[Stack]:
@@ -168,6 +175,7 @@ def test_dwb_takes_a_new_path_without_stopping(stack: Stack) -> None:
     status, result = get_result(first, 10.0)
     assert (status, result.error_code) == (GoalStatus.STATUS_ABORTED, Codes.NONE)
     assert "preempted" in result.error_msg
+    assert stack.takeover() is Takeover.NEW_PATH
     status, result = get_result(second, 120.0)
     assert status == GoalStatus.STATUS_SUCCEEDED, (result.error_code, result.error_msg, stack.world.pose())
     xy_error, _ = _report(stack, (0.0, 2.0, math.pi / 2), "DWB to (0.0, 2.0) after a new path")
@@ -177,6 +185,28 @@ def test_dwb_takes_a_new_path_without_stopping(stack: Stack) -> None:
     first_stop = next(i for i, c in enumerate(during) if c.linear.x == 0.0 and c.angular.z == 0.0)
     assert first_stop > 0.8 * len(during), "the robot stopped when the path was replaced"
     assert local_plans and local_plans[-1].header.frame_id == "odom"
+
+
+def test_a_replan_toward_the_same_goal_only_swaps_the_path(stack: Stack) -> None:
+    """The bt_navigator's 1 Hz replan: the same goal planned again from where the robot now is. Nav2's
+    protocol holds (the old goal ends ABORTED "preempted", the new one drives on to SUCCEEDED) and the
+    controller takes the plan as the rest of its path (follow_path.Takeover.REMAINDER)."""
+    replaced = threading.Event()
+    stack.hold_when_moving(replaced.is_set)
+    first = send_goal(stack.follow, FollowPath.Goal(path=stack.plan(2.0, 0.0)))
+    wait_until(stack.moving, 30.0, "the robot to drive")
+    assert stack.takeover() is Takeover.FRESH
+    second = send_goal(stack.follow, FollowPath.Goal(path=stack.plan(2.0, 0.0)))
+    replaced.set()
+    status, result = get_result(first, 10.0)
+    assert (status, result.error_code) == (GoalStatus.STATUS_ABORTED, Codes.NONE)
+    assert "preempted" in result.error_msg
+    assert stack.takeover() is Takeover.REMAINDER
+    status, result = get_result(second, 120.0)
+    assert status == GoalStatus.STATUS_SUCCEEDED, (result.error_code, result.error_msg, stack.world.pose())
+    xy_error, _ = _report(stack, (2.0, 0.0, 0.0), "to (2.0, 0.0) after a replan")
+    assert xy_error < 0.25 + 0.05
+    assert stack.world.collisions == 0
 
 
 def test_cancel_stops_the_robot_at_once(stack: Stack) -> None:
