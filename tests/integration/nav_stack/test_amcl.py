@@ -248,3 +248,21 @@ def test_scans_that_return_almost_nothing_degrade_localization_once_with_the_cau
     graph.spin_until(lambda: log.has("localization recovered: "), "the recovery info")
     graph.spin_until(lambda: statuses[-1].level == DiagnosticStatus.OK, "an OK status")
     assert log.text.count("localization degraded:") == 1
+
+
+def test_do_beamskip_is_said_to_have_no_effect_and_is_silent_when_off(ros_context: Any, capfd: Any) -> None:
+    """Issue 49: a Nav2 parameter accepted and never read is said at startup, with its name."""
+    def configure_with(do_beamskip: bool) -> str:
+        overrides = [Parameter("do_beamskip", value=do_beamskip)]
+        node = AmclNode(context=ros_context, parameter_overrides=overrides)
+        try:
+            capfd.readouterr()
+            assert node.trigger_configure() == TransitionCallbackReturn.SUCCESS
+            return str(capfd.readouterr().err)
+        finally:
+            node.destroy_node()
+
+    said = configure_with(True)
+    assert "do_beamskip is true but has no effect with laser_model_type 'likelihood_field'" in said, said
+    assert "beam_skip_error_threshold are ignored" in said
+    assert "do_beamskip" not in configure_with(False)
