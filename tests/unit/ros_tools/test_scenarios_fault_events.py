@@ -10,13 +10,13 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from ros_tools.runtime.requests import poll
 from ros_tools.scenarios import commands
 from ros_tools.scenarios.injector import KINDS
 from ros_tools.scenarios.process_faults import FreezeBook, role_pid, send, simulator_pid, target_of
@@ -116,6 +116,8 @@ def test_a_process_target_is_read_from_its_lockstep_name() -> None:
 def test_the_simulator_is_found_among_the_scenarios_processes_only(tmp_path: Path) -> None:
     fake = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)", "-m", "sim2d.ros.cli"])
     try:
+        # Until the child has exec'd, its /proc cmdline is still this process's: wait for the exec.
+        assert poll(lambda: b"sim2d.ros.cli" in Path(f"/proc/{fake.pid}/cmdline").read_bytes(), 5.0, 0.01)
         assert simulator_pid(os.getpid()) == fake.pid
         assert simulator_pid(fake.pid) is None                # not under that ancestor
     finally:
@@ -142,10 +144,8 @@ def test_a_freeze_stops_the_process_and_the_book_continues_it() -> None:
 def _becomes(pid: int, wanted: Callable[[str], bool], timeout: float = 5.0) -> bool:
     """Whether the process's state letter (/proc/<pid>/stat) satisfies ``wanted`` within ``timeout`` s:
     a signal is delivered asynchronously."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
+    def state() -> str:
         text = Path(f"/proc/{pid}/stat").read_text()
-        if wanted(text[text.rindex(")") + 2]):
-            return True
-        time.sleep(0.01)
-    return False
+        return text[text.rindex(")") + 2]
+
+    return poll(lambda: wanted(state()), timeout, 0.01)
