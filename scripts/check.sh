@@ -12,7 +12,7 @@ step() { printf '\n== %s\n' "$*"; }
 step "ruff"
 "$VENV/bin/ruff" check .
 step "mypy"
-"$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools
+"$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools navsuite_data
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "pytest"

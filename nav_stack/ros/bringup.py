@@ -59,10 +59,13 @@ from typing import Any
 
 from nav_stack.ros.bringup_components import COMPONENT_READY, COMPONENTS, component_role, run_component
 from nav_stack.ros.robot_params import ROBOTS, params_for_robot
+from navsuite_data import data_root, resolve, searched
 from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument
 
-REPO = Path(__file__).resolve().parents[2]
+#: The folder holding the shipped config/ and maps/ (the repository in a checkout, the installed
+#: navsuite_data package otherwise): ``config/nav2_params.yaml`` means the same file below both.
+REPO = data_root()
 DEFAULT_PARAMS = params_for_robot("waffle")
 READY_LINE = "Nav2 is ready"
 RESPAWN_DELAY = 2.0  # s (wall) before a dead node process starts again: nav2_bringup's respawn_delay
@@ -129,16 +132,16 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _names_a_map(files: Sequence[str]) -> bool:
-    """Whether the parameter files set map_server's ``yaml_filename`` (Nav2's own file leaves it empty:
-    nav2_bringup's ``map`` launch argument fills it). A file that does not parse counts as naming
-    none here; the parameter check reports it."""
+def _named_map(files: Sequence[str]) -> str:
+    """map_server's ``yaml_filename`` in the parameter files, "" when they set none (Nav2's own file
+    leaves it empty: nav2_bringup's ``map`` launch argument fills it). A file that does not parse
+    counts as naming none here; the parameter check reports it."""
     from nav_stack.ros.param_files import NavParams, ParamFileError
 
     try:
-        return bool(NavParams([Path(f) for f in files]).get("map_server", "yaml_filename"))
+        return str(NavParams([Path(f) for f in files]).get("map_server", "yaml_filename") or "")
     except (ParamFileError, OSError):
-        return False
+        return ""
 
 
 def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
@@ -147,15 +150,22 @@ def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
     The world's map (an absolute path) replaces the parameter file's ``yaml_filename`` when the user
     chose the world, left --params to the robot's shipped file (its relative
     ``maps/turtlebot3_world.yaml`` would only load when started from the repository), or gave files
-    that name no map, as Nav2's own file does (nav2_bringup passes its ``map`` argument then).
+    that name no map, as Nav2's own file does (nav2_bringup passes its ``map`` argument then). A
+    relative ``yaml_filename`` that is not there from the working directory means the shipped map of
+    that name (navsuite_data.resolve), so a shipped parameter file given as --params works anywhere.
     """
     from nav_stack.ros.world_defaults import world_defaults
 
     chosen, args.world = args.world is not None, args.world or "turtlebot3_world"
     defaults = world_defaults(args.world)
-    wants_map = chosen or not own_params or not _names_a_map(args.params)
+    named = _named_map(args.params)
+    wants_map = chosen or not own_params or not named
     if wants_map and args.map is None and not args.slam and defaults.map_yaml is not None:
         args.map = str(defaults.map_yaml)
+    elif args.map is None and not args.slam and named and not Path(named).exists():
+        shipped_map = resolve(named)
+        if shipped_map.is_file():
+            args.map = str(shipped_map)
     for name, value in zip(("x", "y", "yaw"), defaults.spawn, strict=True):
         if getattr(args, name) is None:
             setattr(args, name, value)
@@ -187,19 +197,27 @@ def _validate(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None
         parser.error("--slam builds its own map: drop --map (or drop --slam to localize on a map)")
     if args.slam and args.isolated:
         parser.error("--slam always runs its nodes as separate processes: drop --isolated")
-    for path in args.params:
-        if not Path(path).is_file():
-            parser.error(f"--params: no such file: {path}")
-    if args.map is not None and not Path(args.map).is_file():
-        parser.error(f"--map: no such file: {args.map}")
-    if args.sim_params is not None and not Path(args.sim_params).is_file():
-        parser.error(f"--sim-params: no such file: {args.sim_params}")
+    args.params = [_existing_file(parser, "--params", path) for path in args.params]
+    if args.map is not None:
+        args.map = _existing_file(parser, "--map", args.map)
+    if args.sim_params is not None:
+        args.sim_params = _existing_file(parser, "--sim-params", args.sim_params)
     if args.rtf.lower() not in ("max", "inf"):
         try:
             if float(args.rtf) <= 0.0:
                 raise ValueError
         except ValueError:
             parser.error(f"--rtf must be a positive number or 'max', got {args.rtf!r}")
+
+
+def _existing_file(parser: argparse.ArgumentParser, option: str, text: str) -> str:
+    """A file option's path: the user's (absolute, or relative to the working directory), else the
+    shipped file of that name (``config/...``, ``maps/...``: navsuite_data), so the documented commands
+    also run outside a checkout; exit 2 naming the file and where it was looked for."""
+    path = resolve(text)
+    if not path.is_file():
+        parser.error(f"{option}: no such file: {text} ({searched(text)})")
+    return str(path)
 
 
 def check_params(args: argparse.Namespace) -> str | None:

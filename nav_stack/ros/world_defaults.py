@@ -5,8 +5,9 @@ poses (the world file's ``spawns``, the first being the default). Without these 
 ``--world turtlebot3_house`` would localize the house on turtlebot3_world's map at that world's
 spawn, and AMCL would be lost from the first scan.
 
-The world file is read as data (YAML), like a launch file reads another package's resources:
-nav_stack never imports sim2d. Explicit ``--map`` and ``--x/--y/--yaw`` always win.
+The world file is read as data (YAML) from the shipped data (navsuite_data), like a launch file
+reads another package's share folder: nav_stack never imports sim2d. Explicit ``--map`` and
+``--x/--y/--yaw`` always win.
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ from pathlib import Path
 
 import yaml
 
-REPO = Path(__file__).resolve().parents[2]
-WORLDS_DIR = REPO / "sim2d" / "worlds"
-MAPS_DIR = REPO / "maps"
+from navsuite_data import data_dir, resolve
+
+WORLDS_DIR = data_dir("worlds")
+MAPS_DIR = data_dir("maps")
 FALLBACK_SPAWN = (-2.0, -0.5, 0.0)  # m, m, rad: turtlebot3_world's spawn, for worlds without spawns
 
 
@@ -31,12 +33,13 @@ class WorldDefaults:
 
 
 def world_defaults(world: str) -> WorldDefaults:
-    """Defaults for a world given by name (sim2d/worlds/NAME.yaml) or path (world or map YAML).
+    """Defaults for a world given by name (a shipped world, sim2d/worlds/NAME.yaml) or path (world or
+    map YAML; relative to the working directory, else a shipped file of that name).
 
     A map_server YAML used as a world is its own map; a world file's map is maps/<stem>.yaml when
     it exists. The spawn is the world file's first ``spawns`` entry, else FALLBACK_SPAWN.
     """
-    path = Path(world) if world.endswith((".yaml", ".yml")) else WORLDS_DIR / f"{world}.yaml"
+    path = resolve(world) if world.endswith((".yaml", ".yml")) else WORLDS_DIR / f"{world}.yaml"
     try:
         data = yaml.safe_load(path.read_text()) if path.is_file() else None
     except (OSError, yaml.YAMLError):

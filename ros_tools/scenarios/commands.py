@@ -1,6 +1,6 @@
 """The processes that run one scenario: existing mission commands, driven by their documented options.
 
-Pure: ``plan(scenario, artifact_dir, repo)`` returns the command lines and the parameter overlays to
+Pure: ``plan(scenario, artifact_dir, data_root)`` returns the command lines and the parameter overlays to
 write; the worker starts them. Each mission kind reuses the command that already runs it, so a
 scenario behaves exactly like the same run started by hand:
 
@@ -64,15 +64,16 @@ def executable(script: str) -> list[str]:
     return [str(beside)] if beside.exists() else [sys.executable, "-m", MODULES[script]]
 
 
-def plan(scenario: Scenario, artifact_dir: Path, repo: Path) -> RunPlan:
-    """The commands and overlays of ``scenario``, its artifacts under ``artifact_dir``."""
+def plan(scenario: Scenario, artifact_dir: Path, data_root: Path) -> RunPlan:
+    """The commands and overlays of ``scenario``, its artifacts under ``artifact_dir``; ``data_root``
+    holds the shipped config/ (navsuite_data.data_root(): the repository in a checkout)."""
     logs = artifact_dir / "logs"
     report = artifact_dir / "report.png"
     mission = scenario.mission
     files: dict[Path, str] = {}
     drains = isinstance(mission, BehaviorTreeMission) or (
         isinstance(mission, StateMachineMission) and mission.machine == "sm_battery_patrol")
-    base_sim = repo / BATTERY_SIM_PARAMS if drains else None
+    base_sim = data_root / BATTERY_SIM_PARAMS if drains else None
     sim_params = _sim_overlay(scenario, base_sim)
     sim_file = artifact_dir / "sim2d_overlay.yaml"
     if sim_params is not None:
@@ -82,7 +83,7 @@ def plan(scenario: Scenario, artifact_dir: Path, repo: Path) -> RunPlan:
     timeout = f"{scenario.timeout:g}"
     if isinstance(mission, StateMachineMission):
         params_file = artifact_dir / f"{mission.machine}.yaml"
-        files[params_file] = yaml.safe_dump(_machine_params(scenario, mission, repo), sort_keys=False)
+        files[params_file] = yaml.safe_dump(_machine_params(scenario, mission, data_root), sort_keys=False)
         common = ["--rtf", "max", "--timeout", timeout, "--params-file", str(params_file),
                   "--log-dir", str(logs), "--robot", scenario.robot]
         if mission.machine == "sm_nav2_test_1":
@@ -137,11 +138,11 @@ def _sim_overlay(scenario: Scenario, base: Path | None) -> dict[str, Any] | None
     return overlay or None
 
 
-def _machine_params(scenario: Scenario, mission: StateMachineMission, repo: Path) -> dict[str, Any]:
+def _machine_params(scenario: Scenario, mission: StateMachineMission, data_root: Path) -> dict[str, Any]:
     """config/<machine>.yaml with the scenario's parameters and start pose over it (floats where the
     file has floats: rclpy will not take 1 for a double parameter)."""
     node = MACHINES[mission.machine]
-    path = repo / "config" / f"{mission.machine}.yaml"
+    path = data_root / "config" / f"{mission.machine}.yaml"
     document = yaml.safe_load(path.read_text(encoding="utf-8")) if path.exists() else {}
     params: dict[str, Any] = dict(document.get(node, {}).get("ros__parameters", {}))
     overrides = dict(mission.parameters)

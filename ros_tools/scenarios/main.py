@@ -27,13 +27,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from navsuite_data import data_dir, resolve, searched
 from ros_tools.scenarios import domains
 from ros_tools.scenarios.schema import Scenario, ScenarioError, load_scenarios
 
 if TYPE_CHECKING:
     from ros_tools.scenarios.executor import Executor
 
-REPO = Path(__file__).resolve().parents[2]
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
@@ -75,8 +75,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ros_tools.scenarios.farm import select
 
     options = parse_args(argv)
+    source = resolve(options.file)  # the user's file, else a shipped one (config/scenarios/...)
+    if not source.is_file():
+        print(f"navsuite-scenarios: {options.file}: no such file ({searched(options.file)})", file=sys.stderr)
+        return EXIT_USAGE
+    options.file = source
     try:
-        scenarios = select(load_scenarios(options.file, REPO / "config"), options.select)
+        scenarios = select(load_scenarios(options.file, data_dir("config")), options.select)
     except ScenarioError as error:
         print(f"navsuite-scenarios: {error}", file=sys.stderr)
         return EXIT_USAGE

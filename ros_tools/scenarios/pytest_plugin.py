@@ -20,9 +20,8 @@ from typing import Any
 
 import pytest
 
+from navsuite_data import data_dir
 from ros_tools.scenarios.schema import Scenario
-
-REPO = Path(__file__).resolve().parents[2]
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -63,7 +62,7 @@ class ScenarioFile(pytest.File):
         from ros_tools.scenarios.schema import ScenarioError, load_scenarios
 
         try:
-            scenarios = load_scenarios(self.path, REPO / "config")
+            scenarios = load_scenarios(self.path, data_dir("config"))
         except ScenarioError as error:
             raise self.CollectError(str(error)) from error
         for scenario in scenarios:

@@ -120,7 +120,8 @@ def check_robot(check: FieldCheck, value: object) -> str:
 
 
 def check_file(check: FieldCheck, name: str, value: object) -> Path:
-    """An existing file: absolute, else relative to the scenario file, else to the repository root."""
+    """An existing file: absolute, else relative to the scenario file, else to the folder holding the
+    shipped config/ (the repository root in a checkout; ``config_dir``'s parent)."""
     if not isinstance(value, str) or not value:
         check.fail(name, "expected a file path", value)
     path = Path(value)
@@ -130,7 +131,7 @@ def check_file(check: FieldCheck, name: str, value: object) -> Path:
     for candidate in candidates:
         if candidate.is_file():
             return candidate.resolve()
-    check.fail(name, "no such file", value)
+    check.fail(name, "no such file", value, "looked at " + " and ".join(str(c) for c in candidates))
 
 
 def check_params(check: FieldCheck, value: object) -> tuple[Path, ...]:

@@ -23,13 +23,13 @@ from collections.abc import Sequence
 from dataclasses import asdict, replace
 from pathlib import Path
 
+from navsuite_data import data_dir, data_root
 from ros_tools.launch import Launcher, LaunchError, ProcessSpec
 from ros_tools.scenarios import commands, outcome
 from ros_tools.scenarios.schema import Scenario, load_scenarios
 from ros_tools.scenarios.schema_fields import INJECTED_EVENTS
 from ros_tools.scenarios.verdict import Outcome
 
-REPO = Path(__file__).resolve().parents[2]
 READY = r"Nav2 is ready"
 READY_TIMEOUT = 180.0  # wall s for nav-bringup's readiness line
 RESULT_FILE = "result.json"
@@ -76,7 +76,7 @@ def run(scenario: Scenario, artifact_dir: Path) -> Outcome:
     """Run ``scenario`` with its artifacts in ``artifact_dir``; the facts of the run."""
     started = time.monotonic()
     artifact_dir.mkdir(parents=True, exist_ok=True)
-    plan = commands.plan(scenario, artifact_dir, REPO)
+    plan = commands.plan(scenario, artifact_dir, data_root())
     for path, text in plan.files.items():
         path.write_text(text, encoding="utf-8")
     injector = injector_spec(scenario)
@@ -198,7 +198,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("usage: python -m ros_tools.scenarios.worker FILE NAME ARTIFACT_DIR", file=sys.stderr)
         return 2
     source, name, artifact_dir = Path(args[0]), args[1], Path(args[2])
-    scenario = next(s for s in load_scenarios(source, REPO / "config") if s.name == name)
+    scenario = next(s for s in load_scenarios(source, data_dir("config")) if s.name == name)
     result = Outcome("ERROR", "interrupted before the run ended")
     try:
         result = run(scenario, artifact_dir)

@@ -37,13 +37,14 @@ from typing import Any
 import numpy as np
 import yaml
 
+from navsuite_data import data_dir, resolve, searched
 from sim2d.core.dock import DOCK_TYPES, Dock
 from sim2d.core.geometry import FloatArray, StaticGeometry, is_convex_ccw, regular_polygon, ring_pieces
 from sim2d.core.grid_shapes import map_to_geometry
 from sim2d.core.map_io import load_map
 from sim2d.core.robot import Pose2D
 
-WORLDS_DIR = Path(__file__).resolve().parents[1] / "worlds"
+WORLDS_DIR = data_dir("worlds")  # the shipped worlds (navsuite_data; sim2d/worlds/ in the checkout)
 Spawn = tuple[float, float, float]
 """A spawn pose (x, y, yaw) in the map frame (m, m, rad)."""
 
@@ -65,11 +66,12 @@ class World:
 
 
 def resolve_world(spec: str | Path) -> Path:
-    """A world name (file under sim2d/worlds/) or a path to a world or map_server YAML."""
-    path = Path(spec)
+    """A world name (a shipped world, sim2d/worlds/NAME.yaml) or a path to a world or map_server YAML
+    (relative to the working directory, else a shipped file of that name, e.g. ``maps/x.yaml``)."""
+    path = resolve(spec)
     if path.suffix in (".yaml", ".yml"):
         if not path.is_file():
-            raise ValueError(f"{path}: world file not found")
+            raise ValueError(f"{spec}: world file not found ({searched(spec)})")
         return path
     named = WORLDS_DIR / f"{spec}.yaml"
     if not named.is_file():

@@ -25,12 +25,13 @@ from typing import Any, NoReturn
 
 import yaml
 
+from navsuite_data import config_path, resolve, searched
 from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument, executor_kind
 from sim2d.core.robot import ROBOTS
 from sim2d.ros.config import ParamValue, SimConfig, build_config, coerce, defaults, load_params_file
 
-DEFAULT_PARAMS = Path(__file__).resolve().parents[2] / "config" / "sim2d.yaml"
+DEFAULT_PARAMS = config_path("sim2d.yaml")  # shipped data (navsuite_data)
 EXIT_USAGE = 2
 
 
@@ -96,7 +97,7 @@ def parse_command_line(argv: list[str]) -> CommandLine:
                         help="roles that must report before the first step (implies --lockstep)")
     add_executor_argument(parser)
     args = parser.parse_args(argv)
-    params_file = args.params_file or (DEFAULT_PARAMS if DEFAULT_PARAMS.is_file() else None)
+    params_file = _params_file(args.params_file)
     values = load_params_file(params_file) if params_file else {}
     # The node receives these values as parameter_overrides, which rclpy ranks above --ros-args; so
     # fold '--params-file' and '-p name:=value' from --ros-args in here, after the default file and
@@ -113,6 +114,17 @@ def parse_command_line(argv: list[str]) -> CommandLine:
     values.update({name: coerce(name, value, "command line") for name, value in flags.items()
                    if value is not None})
     return CommandLine(values, ros_args, args.executor)
+
+
+def _params_file(given: Path | None) -> Path | None:
+    """``--params-file``: the user's file (else the shipped file of that name, e.g. config/x.yaml), or
+    the shipped default when not given; a ValueError names the file and where it was looked for."""
+    if given is None:
+        return DEFAULT_PARAMS if DEFAULT_PARAMS.is_file() else None
+    path = resolve(given)
+    if not path.is_file():
+        raise ValueError(f"--params-file: no such file: {given} ({searched(given)})")
+    return path
 
 
 def _ros_args_values(ros_args: list[str]) -> dict[str, ParamValue]:

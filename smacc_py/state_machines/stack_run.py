@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from navsuite_data import resolve, searched
 from ros_tools.launch import Launcher, ProcessSpec
 
 if TYPE_CHECKING:
@@ -55,6 +56,16 @@ def parse_rtf(text: str) -> str:
     return f"{value:g}"
 
 
+def existing_file(text: str) -> Path:
+    """argparse type of the commands' file options: the user's path (absolute, or relative to the working
+    directory), else the shipped file of that name (``config/...``: navsuite_data), so the documented
+    commands also run outside a checkout; the error names the file and where it was looked for."""
+    path = resolve(text)
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"no such file: {text} ({searched(text)})")
+    return path
+
+
 def add_console_arguments(parser: argparse.ArgumentParser) -> None:
     """``--verbose``, ``--quiet`` and ``--log-dir``, shared by the mission commands."""
     parser.add_argument("--verbose", action="store_true",
@@ -69,7 +80,7 @@ def add_console_arguments(parser: argparse.ArgumentParser) -> None:
 def add_nav_params_argument(parser: argparse.ArgumentParser) -> None:
     """``--nav-params FILE`` (repeatable): the navigation's parameter files, passed to nav-bringup as
     ``--params`` (e.g. Nav2 Jazzy's own nav2_params.yaml; default: the robot's shipped file)."""
-    parser.add_argument("--nav-params", action="append", default=None, metavar="FILE",
+    parser.add_argument("--nav-params", action="append", default=None, metavar="FILE", type=existing_file,
                         help="Nav2 parameter file for nav-bringup's --params (repeatable; later files "
                              "override earlier ones), e.g. Nav2's own nav2_params.yaml")
 
@@ -81,7 +92,7 @@ def console_arguments(options: argparse.Namespace, log_dir: Path) -> list[str]:
 
 def bringup_command(rtf: str, custom: str | None = None, machine: str | None = None,
                     robot: str | None = None, console: Sequence[str] = (),
-                    params: Sequence[str] = ()) -> list[str]:
+                    params: Sequence[str | Path] = ()) -> list[str]:
     """``nav-bringup --rtf N`` (the console script, or its module when not installed as a script), or
     ``custom`` (a command line; ``--rtf N`` is appended) to run another stack that prints the same line.
 

@@ -27,9 +27,9 @@ from nav_stack.core.costmap.inflation_layer import inflation_cost
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE
 from nav_stack.core.map_io import OccupancyMap, load_map
 from nav_stack.ros.autonomy.locations import Location, load_locations
+from navsuite_data import config_path, map_path
 
-REPO = Path(__file__).resolve().parents[3]
-DEFAULT_MAP = REPO / "maps" / "turtlebot3_world.yaml"
+DEFAULT_MAP = map_path("turtlebot3_world.yaml")
 TB3_WORLD_PILLARS: tuple[tuple[float, float], ...] = tuple(
     (x, y) for x in (-1.1, 0.0, 1.1) for y in (-1.1, 0.0, 1.1)
 )
@@ -115,7 +115,7 @@ def format_table(rows: Sequence[Clearance], locations: Mapping[str, Location]) -
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
-    path = Path(args[0]) if args else REPO / "config" / "locations.yaml"
+    path = Path(args[0]) if args else config_path("locations.yaml")
     locations = load_locations(path)
     print(format_table(clearance_table(locations, load_map(DEFAULT_MAP)), locations))
     return 0

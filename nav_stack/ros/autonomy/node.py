@@ -48,10 +48,10 @@ from nav_stack.ros.autonomy.navigator import RosNavigator
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
 from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
 from nav_stack.ros.params import declare_dataclass
+from navsuite_data import resolve, searched
 from ros_tools.runtime.executor import add_executor_argument
 from ros_tools.runtime.timers import create_periodic_timer
 
-REPO = Path(__file__).resolve().parents[3]
 BATTERY_SOURCES = ("topic", "counter")
 EXIT_CONFIG = 2
 CANCEL_ANSWER_WAIT = 2.0  # wall s the teardown waits for the server to answer the running goal's cancel
@@ -65,7 +65,7 @@ class AutonomyParams:
 
     Attributes:
         tree_file: BT XML (v3 or v4); relative paths resolve against the working directory, then the
-            repository.
+            shipped data (``config/...``: navsuite_data).
         location_file: ``name: [x, y, theta]`` in ``global_frame``.
         tick_period: s of node clock between ticks (the seed's 500 ms timer).
         max_cycles: stop after this many root SUCCESS/FAILURE results; 0 runs forever.
@@ -102,13 +102,13 @@ class AutonomyParams:
             raise ValueError(f"max_cycles must be >= 0, got {self.max_cycles}")
 
 
-def resolve_path(text: str) -> Path:
-    """``text`` as given if it exists (or is absolute), else relative to the repository."""
-    path = Path(text).expanduser()
-    if path.is_absolute() or path.exists():
-        return path
-    in_repo = REPO / path
-    return in_repo if in_repo.exists() else path
+def existing_file(parameter: str, text: str) -> Path:
+    """A file parameter's path: as given if it exists, else the shipped file of that name
+    (navsuite_data.resolve); a ValueError names the parameter, the file and where it was looked for."""
+    path = resolve(text)
+    if not path.is_file():
+        raise ValueError(f"{parameter}: no such file: {text} ({searched(text)})")
+    return path
 
 
 def tree_structure(tree: Tree) -> dict[str, Any]:
@@ -134,8 +134,8 @@ class AutonomyNode(Node):
         else:
             self.battery = TopicBattery(TopicBatteryParams(p.low_threshold, p.charged_threshold,
                                                            p.recharge_timeout))
-        self.location_file = resolve_path(p.location_file)
-        self.tree_file = resolve_path(p.tree_file)
+        self.location_file = existing_file("location_file", p.location_file)
+        self.tree_file = existing_file("tree_file", p.tree_file)
         locations = load_locations(self.location_file)
         self.navigator = RosNavigator(self, p.action_name, p.global_frame)
         self.seed = SeedContext(self.navigator, self.battery, locations, p.server_timeout,

@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -30,8 +29,9 @@ from nav_stack.ros.bt_nodes.actions import RECOVERIES_KEY
 from nav_stack.ros.conversions import duration_msg, path_to_array, pose_stamped
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.localization_guard import untrusted_message
+from navsuite_data import config_path, resolve
 
-TREES_DIR = Path(__file__).resolve().parents[3] / "config" / "trees"
+TREES_DIR = config_path("trees")  # the default trees: shipped data (navsuite_data)
 MIN_SPEED_FOR_ETA = 0.01  # m/s
 MIN_DISTANCE_FOR_ETA = 0.1  # m
 
@@ -101,7 +101,8 @@ class Navigator:
     default_tree_file: ClassVar[str] = ""
 
     def __init__(self, default_tree: str, path_key: str = "path") -> None:
-        self.default_tree = default_tree or str(TREES_DIR / self.default_tree_file)
+        # a parameter's path as given (or a shipped config/trees/... name); empty: the shipped default
+        self.default_tree = str(resolve(default_tree) if default_tree else TREES_DIR / self.default_tree_file)
         self.path_key = path_key
         self._progress = PathProgress()
 

@@ -21,9 +21,9 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager
-from pathlib import Path
 from typing import TYPE_CHECKING
 
+from navsuite_data import config_path, data_dir
 from ros_tools.dds import keep_dds_local
 from smacc_py.core import SmaccObserver, SmaccStateMachineBase, TransitionRecord
 from smacc_py.state_machines import stack_run
@@ -31,10 +31,10 @@ from smacc_py.state_machines import stack_run
 if TYPE_CHECKING:
     from smacc_py.ros.runtime import SmaccRuntime
 
-DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_battery_patrol.yaml"
+DEFAULT_PARAMS = config_path("sm_battery_patrol.yaml")  # shipped data (navsuite_data)
 #: sim2d's battery drained as in the seed (2 % per metre): a real waffle's would last two hours.
-SIM_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sim2d_battery_patrol.yaml"
-CONFIG = Path(__file__).resolve().parents[3] / "config"
+SIM_PARAMS = config_path("sim2d_battery_patrol.yaml")
+CONFIG = data_dir("config")
 #: --recharge dock: the docking_server overlay for turtlebot3_world, over the robot's Nav2 file, and the
 #: docking patrols' sim2d overlay (the seed's fast battery, charged on the dock's contacts only).
 DOCK_PARAMS = CONFIG / "docks" / "turtlebot3_world.yaml"
@@ -53,7 +53,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--robot", help="the simulated robot, as nav-bringup's --robot (waffle, burger, tb4; "
                                         "default: nav-bringup's, waffle)")
     default_params = DEFAULT_PARAMS if DEFAULT_PARAMS.exists() else None
-    parser.add_argument("--params-file", type=Path, default=default_params,
+    parser.add_argument("--params-file", type=stack_run.existing_file, default=default_params,
                         help="ros__parameters YAML for node SmBatteryPatrol")
     parser.add_argument("--low-threshold", type=float, help="charge (0..1) at which to recharge")
     parser.add_argument("--charged-threshold", type=float, help="charge (0..1) at which to resume")
@@ -61,12 +61,12 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="recharge mode (default: the parameters file's, station); dock: Nav2's "
                              "DockRobot / UndockRobot on the world's dock, with --dock-params and, unless "
                              "--sim-params is given, config/autonomy_docking.yaml's sim2d battery")
-    parser.add_argument("--dock-params", type=Path, default=DOCK_PARAMS,
+    parser.add_argument("--dock-params", type=stack_run.existing_file, default=DOCK_PARAMS,
                         help="--recharge dock: nav-bringup's docking_server overlay (default "
                              "config/docks/turtlebot3_world.yaml), applied over the robot's Nav2 file")
     parser.add_argument("--ready-timeout", type=float, default=180.0,
                         help="wall s to wait for 'Nav2 is ready'")
-    parser.add_argument("--sim-params", type=Path, default=None,
+    parser.add_argument("--sim-params", type=stack_run.existing_file, default=None,
                         help="nav-bringup --sim-params: sim2d parameters over config/sim2d.yaml "
                              "(default: the seed's fast-draining battery, charged at the station; with "
                              "--recharge dock on the dock)")

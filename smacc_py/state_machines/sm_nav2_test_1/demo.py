@@ -29,19 +29,21 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from navsuite_data import config_path
 from ros_tools.dds import keep_dds_local
 from ros_tools.launch import ProcessSpec
 from smacc_py.state_machines.stack_run import (
     StackSession,
     add_console_arguments,
     add_nav_params_argument,
+    existing_file,
     parse_rtf,
     run_against_stack,
     stack_stamps,
     use_stamped_cmd_vel,
 )
 
-DEFAULT_PARAMS = Path(__file__).resolve().parents[3] / "config" / "sm_nav2_test_1.yaml"
+DEFAULT_PARAMS = config_path("sm_nav2_test_1.yaml")  # shipped data (navsuite_data)
 
 
 def parse_pose(text: str) -> list[float]:
@@ -110,7 +112,7 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--waypoint2", type=parse_pose, help="x,y,yaw of the second goal (map frame)")
     parser.add_argument(
         "--params-file",
-        type=Path,
+        type=existing_file,
         default=DEFAULT_PARAMS if DEFAULT_PARAMS.exists() else None,
         help="ros__parameters YAML for node SmNav2Test1",
     )
