@@ -7,7 +7,8 @@ s, or until it comes within 1 cm of the target, and each pose is checked against
 (``use_collision_detection``). Poses within ``dock_collision_threshold`` m of the target while docking
 (the dock itself is an obstacle the robot must touch), or of the start while undocking, are not
 checked. A collision fails the command (FAILED_TO_CONTROL), so the robot stops clear of an obstacle
-instead of pushing into it.
+instead of pushing into it; the message names the costmap cell the footprint would touch (where the
+obstacle is) as well as the robot pose at which it would (Nav2 says only "Failed to get control").
 """
 
 from __future__ import annotations
@@ -17,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_stack.core.control.base import CostGrid, Footprint, Twist2D
+from nav_stack.core.control.base import CostGrid, Footprint, PolygonFootprint, Twist2D
 from nav_stack.core.docking.errors import FailedToControl
 from nav_stack.core.docking.graceful import SmoothControlLawParams, next_pose, velocity_command
-from nav_stack.core.geometry import Pose2D, angle_diff, compose, to_frame
+from nav_stack.core.geometry import Pose2D, angle_diff, compose, from_frame, to_frame
 
 REACHED_TOLERANCE = 0.01  # m: the roll-out stops this close to the target (Nav2's 1e-2)
 
@@ -116,11 +117,14 @@ class DockingController:
         """
         hit = self.collision(target, robot, obstacles, is_docking, backward)
         if hit is not None:
+            assert obstacles is not None, "only a costmap makes a collision"
             goal = compose(robot, target)
+            (x, y), cost = blocking_cell(obstacles, hit)
             raise FailedToControl(f"collision ahead: the {'docking' if is_docking else 'undocking'} motion "
                                   f"from ({robot.x:.2f}, {robot.y:.2f}, {robot.yaw:.2f}) towards "
-                                  f"({goal.x:.2f}, {goal.y:.2f}) would hit an obstacle at ({hit.x:.2f}, "
-                                  f"{hit.y:.2f}, {hit.yaw:.2f}) in '{obstacles.frame if obstacles else ''}'")
+                                  f"({goal.x:.2f}, {goal.y:.2f}) would hit an obstacle: the costmap cell at "
+                                  f"({x:.2f}, {y:.2f}) (cost {cost}) under the robot at ({hit.x:.2f}, "
+                                  f"{hit.y:.2f}, {hit.yaw:.2f}) in '{obstacles.frame}'")
         return velocity_command(target, Pose2D(0.0, 0.0, 0.0), self.params, backward)
 
     def command_to_pose(self, robot: Pose2D, pose: Pose2D, linear_tolerance: float, angular_tolerance: float,
@@ -132,6 +136,21 @@ class DockingController:
                 and abs(angle_diff(pose.yaw, robot.yaw)) < angular_tolerance):
             return None
         return self.command(relative(pose, robot), robot_in_costmap, obstacles, is_docking, backward)
+
+
+def blocking_cell(obstacles: Obstacles, pose: Pose2D) -> tuple[tuple[float, float], int]:
+    """The centre (m, costmap frame) and cost of a cell that makes the robot at ``pose`` collide: the
+    first colliding point of a polygon's outline, or the centre of a circle (whose cost decides)."""
+    footprint, grid = obstacles.footprint, obstacles.grid
+    points = np.array([[pose.x, pose.y]])
+    if isinstance(footprint, PolygonFootprint):
+        outline = footprint.outline()
+        world = from_frame(np.column_stack([outline, np.zeros(len(outline))]), pose)[:, :2]
+        colliding = footprint.collides(grid.cost_at(world[:, 0], world[:, 1]))
+        points = world[colliding][:1] if colliding.any() else points
+    mx, my = grid.spec.world_to_cell(points[:, 0], points[:, 1])
+    cx, cy = grid.spec.cell_to_world(mx, my)
+    return (float(cx[0]), float(cy[0])), int(grid.cost_at(points[:, 0], points[:, 1])[0])
 
 
 def relative(pose: Pose2D, frame: Pose2D) -> Pose2D:

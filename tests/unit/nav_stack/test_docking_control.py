@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -122,6 +123,24 @@ def test_an_obstacle_on_the_way_to_the_dock_refuses_the_command() -> None:
     assert _controller(use_collision_detection=False).command(target, robot, obstacles, True, False).vx > 0
     free = Obstacles(box_obstacle(2.0, 2.0, 2.1, 2.1), CircleFootprint(0.1), "odom")
     assert controller.command(target, robot, free, True, False).vx == pytest.approx(0.15)
+
+
+def test_the_collision_message_names_the_obstacle_cell_not_only_the_robot_pose() -> None:
+    """Issue 42 ("a dock blocked by an obstacle ... with a message saying what blocked it"): a 5 cm post
+    9 cm beside the approach line, met by the waffle's body; the message gives the post's cell."""
+    robot = Pose2D(-1.0, 0.0, 0.0)
+    target = relative(approach_target(ORIGIN, False), robot)
+    body = PolygonFootprint(((-0.197, -0.133), (0.069, -0.133), (0.069, 0.133), (-0.197, 0.133)))
+    obstacles = Obstacles(box_obstacle(-0.5, 0.05, -0.45, 0.1), body, "odom")
+    with pytest.raises(FailedToControl) as failure:
+        _controller().command(target, robot, obstacles, True, False)
+    match = re.search(r"the costmap cell at \((\S+), (\S+)\) \(cost 254\) under the robot at \((\S+), ",
+                      str(failure.value))
+    assert match is not None, str(failure.value)
+    cell_x, cell_y, robot_x = (float(v) for v in match.groups())
+    assert (cell_x, cell_y) == (pytest.approx(-0.475, abs=0.03), pytest.approx(0.075, abs=0.03))
+    assert robot_x < -0.5 - 0.069 + 0.02  # the robot pose it names is short of the post, body included
+    assert "in 'odom'" in str(failure.value)
 
 
 def test_the_dock_itself_is_not_an_obstacle_within_the_threshold() -> None:
