@@ -112,6 +112,9 @@ def report(verdicts: Sequence[Verdict], stamped: dict[str, bool]) -> str:
         return v.first is None, v.first[0] if v.first and stamped[v.topic] else 0
 
     for v in sorted(verdicts, key=order):
+        if v.compared == 0:
+            lines.append(f"{v.topic:14s} no message in common (no stamp, or no index, appears in both)")
+            continue
         if v.first is None:
             lines.append(f"{v.topic:14s} identical over {v.compared} messages")
             continue

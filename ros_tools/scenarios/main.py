@@ -6,6 +6,7 @@ Examples::
     navsuite-scenarios run config/scenarios/seed_missions.yaml -k seed_nominal -k 'patrol_*'
     navsuite-scenarios check config/scenarios/seed_missions.yaml     # validate and list, run nothing
     navsuite-scenarios run config/scenarios/seed_missions.yaml --ray auto   # on a Ray cluster
+    navsuite-scenarios rerun artifacts/scenarios/seed_missions-20261129-101500 kidnap_first_waypoint
 
 Each scenario runs as its own processes (the mission command, its stack, a recorder) on a ROS domain
 id claimed for it alone (``--domains``, default 51-100), localhost discovery, lockstep at ``--rtf max``.
@@ -14,6 +15,10 @@ Its recording, run report and logs go to ``<out>/<scenario>/``; ``<out>/summary.
 (``cluster``; ``pip install navsuite[cluster]``) and their artifacts come back here. Exit status: 0
 when every selected scenario passed, 1 when one failed, 2 on an invalid file or arguments (or Ray
 missing or unreachable), 130 on Ctrl-C (every process of the run is stopped).
+
+``rerun RUN_DIR NAME`` replays one scenario of an earlier run from the very scenario file it used and
+says whether the replay is the recording (ros_tools/scenarios/rerun.py): exit 0 when identical, 1
+when the two part (named: the first sim time and topic), 2 when it cannot replay exactly.
 """
 
 from __future__ import annotations
@@ -49,21 +54,29 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     run.add_argument("--workers", type=int, default=1, help="scenarios at a time (default 1)")
     run.add_argument("--out", type=Path, default=None,
                      help="output directory (default artifacts/scenarios/<file>-<UTC time>)")
-    run.add_argument("--domains", default=os.environ.get("NAVSUITE_SCENARIO_DOMAINS", domains.DEFAULT_TEXT),
-                     help="ROS_DOMAIN_ID range the runs claim from, FIRST-LAST (default "
-                          f"$NAVSUITE_SCENARIO_DOMAINS or {domains.DEFAULT_TEXT}; ids held by test sessions, "
-                          "benchmarks or other farms are skipped)")
     run.add_argument("--ray", metavar="ADDRESS", default=None,
                      help="run on the Ray cluster at ADDRESS (host:port, or 'auto' for the one started on "
                           "this machine) instead of local workers; needs pip install navsuite[cluster]")
     run.add_argument("--ray-cpus", type=float, default=1.0, metavar="N",
                      help="CPUs each scenario's Ray task asks for (default 1)")
+    rerun = sub.add_parser("rerun", help="replay one scenario of an earlier run and compare the recordings")
+    rerun.add_argument("run_dir", type=Path, help="the earlier run's output directory (it holds farm.json)")
+    rerun.add_argument("name", help="the scenario to replay")
+    rerun.add_argument("--out", type=Path, default=None,
+                       help="output directory (default RUN_DIR/rerun-<NAME>-<UTC time>)")
+    for command in (run, rerun):
+        command.add_argument(
+            "--domains", default=os.environ.get("NAVSUITE_SCENARIO_DOMAINS", domains.DEFAULT_TEXT),
+            help="ROS_DOMAIN_ID range the runs claim from, FIRST-LAST (default "
+                 f"$NAVSUITE_SCENARIO_DOMAINS or {domains.DEFAULT_TEXT}; ids held by test sessions, "
+                 "benchmarks or other farms are skipped)")
     options = parser.parse_args(argv)
     if options.command == "run":
         if options.workers < 1:
             parser.error(f"--workers must be >= 1, got {options.workers}")
         if options.ray_cpus <= 0:
             parser.error(f"--ray-cpus must be > 0, got {options.ray_cpus}")
+    if options.command in ("run", "rerun"):
         try:
             options.domains = domains.parse_range(options.domains)
         except ValueError as error:
@@ -75,6 +88,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     from ros_tools.scenarios.farm import select
 
     options = parse_args(argv)
+    if options.command == "rerun":
+        return replay(options)
     source = resolve(options.file)  # the user's file, else a shipped one (config/scenarios/...)
     if not source.is_file():
         print(f"navsuite-scenarios: {options.file}: no such file ({searched(options.file)})", file=sys.stderr)
@@ -99,6 +114,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     # the inherited SIG_IGN, and the interrupt would go unheard while every scenario ran to the end.
     signal.signal(signal.SIGINT, signal.default_int_handler)
     return run(options, scenarios)
+
+
+def replay(options: argparse.Namespace) -> int:
+    """``rerun``: one scenario of an earlier run, on one local worker (rerun.py says how it is judged)."""
+    from ros_tools.scenarios.executor import LocalExecutor
+    from ros_tools.scenarios.rerun import rerun
+
+    stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
+    out_dir = (options.out or options.run_dir / f"rerun-{options.name}-{stamp}").resolve()
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # as for run (main says why)
+    executor = LocalExecutor(1, domains.DomainPool(*options.domains))
+    try:
+        return rerun(options.run_dir.resolve(), options.name, out_dir, executor, data_dir("config"))
+    except KeyboardInterrupt:
+        executor.shutdown(cancel=True)
+        print("navsuite-scenarios: interrupted; every scenario process was stopped", flush=True)
+        return EXIT_INTERRUPTED
 
 
 def executor_for(options: argparse.Namespace) -> tuple[Executor, str]:

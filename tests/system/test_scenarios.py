@@ -68,6 +68,19 @@ def test_the_farm_runs_scenarios_in_parallel_and_names_the_failing_criterion(tmp
     assert 'src="short_goal/report.png"' in (out / "summary.html").read_text()
     assert _left_behind(tmp_path) == []
 
+    # navsuite-scenarios rerun: the run recorded its file; the replay runs and is compared with it.
+    # Exact replays are issue 43's goal, so either verdict may come; the wiring must not fail (exit 2).
+    again = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "rerun", str(out), "short_goal",
+                            "--out", str(tmp_path / "again")],
+                           cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=120)
+    lines = again.stdout.splitlines()
+    assert again.returncode in (0, 1), again.stdout + again.stderr
+    assert "original: SUCCESS, result code 0" in again.stdout and "replay:   SUCCESS" in again.stdout, lines
+    verdict = "replay identical to the recording" if again.returncode == 0 else "replay differs: "
+    assert lines[-1].startswith(verdict), lines[-1]
+    assert (tmp_path / "again" / "short_goal" / "run.mcap").stat().st_size > 0
+    assert _left_behind(tmp_path) == []
+
 
 @pytest.mark.timeout(180)
 def test_pytest_scenarios_fails_the_built_to_fail_scenario_with_its_criterion(tmp_path: Path) -> None:
