@@ -52,6 +52,7 @@ from std_srvs.srv import Empty
 
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.localization import Amcl, AmclParams, PoseEstimate, map_to_odom
+from nav_stack.core.localization.params import LIKELIHOOD_FIELD_PROB
 from nav_stack.ros.amcl_health import HealthReport
 from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
 from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_seed
@@ -103,14 +104,14 @@ class AmclNode(NavLifecycleNode):
     def configure(self) -> None:
         self.params = load_params(self)
         self.health_params = load_health_params(self)
-        if self.params.do_beamskip:
-            # Nav2 skips beams only in its likelihood_field_prob model, which this stack does not have
-            # (AmclParams refuses it); with likelihood_field or beam, Nav2 too reads do_beamskip nowhere.
+        if self.params.do_beamskip and self.params.laser_model_type != LIKELIHOOD_FIELD_PROB:
+            # Nav2 skips beams only in its likelihood_field_prob model; with likelihood_field or beam,
+            # Nav2 too reads do_beamskip nowhere, silently.
             self.get_logger().warning(
                 f"do_beamskip is true but has no effect with laser_model_type "
-                f"'{self.params.laser_model_type}' (as in Nav2: beam skipping belongs to "
-                "likelihood_field_prob, which this stack does not implement); beam_skip_distance, "
-                "beam_skip_threshold and beam_skip_error_threshold are ignored")
+                f"'{self.params.laser_model_type}': beam skipping only works with laser_model_type "
+                f"'{LIKELIHOOD_FIELD_PROB}' (as in Nav2); beam_skip_distance, beam_skip_threshold and "
+                "beam_skip_error_threshold are ignored")
         self._seed = None if self._given_rng else random_seed(self)
         self.rng = self._given_rng or np.random.default_rng(self._seed)
         self.tf = TransformListener(self)

@@ -8,7 +8,9 @@ Cycle per scan (:meth:`Amcl.update`): the first scan after an initial pose only 
 and weights the particles; later scans update only when the odometry moved more than update_min_d
 (|dx| or |dy|) or update_min_a since the last update. An update is: motion model → laser weights →
 w_slow / w_fast tracking → every ``resample_interval`` updates, KLD-sized low-variance resampling
-with uniform free-space injection at probability max(0, 1 − w_fast/w_slow).
+with uniform free-space injection at probability max(0, 1 − w_fast/w_slow). Laser models
+(``laser_model_type``): likelihood_field and beam (sensor_model.py), likelihood_field_prob with beam
+skipping (likelihood_field_prob.py), which skips beams only once :attr:`Amcl.converged`.
 
 Deliberate differences from nav2_amcl, each measured on the turtlebot3_world tour (see
 weighting.py and bench/RESULTS.md): the laser weight is the tempered product of the per-beam pz,
@@ -30,8 +32,9 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.grid import FloatArray, GridSpec
 from nav_stack.core.localization.clusters import PoseEstimate, estimate_pose
 from nav_stack.core.localization.kld import bin_keys, kld_sample_count
+from nav_stack.core.localization.likelihood_field_prob import LikelihoodFieldProbModel, ScanWeights
 from nav_stack.core.localization.motion_model import angle_diff, sample_motion, wrap
-from nav_stack.core.localization.params import BEAM, AmclParams
+from nav_stack.core.localization.params import BEAM, LIKELIHOOD_FIELD_PROB, AmclParams
 from nav_stack.core.localization.sensor_model import (
     BeamModel,
     Beams,
@@ -84,8 +87,10 @@ class Amcl:
         self.params = params
         self.spec = spec
         self.rng = rng
-        self.model: LikelihoodFieldModel | BeamModel = (
+        self.model: LikelihoodFieldModel | LikelihoodFieldProbModel | BeamModel = (
             BeamModel(occupancy, spec, params) if params.laser_model_type == BEAM
+            else LikelihoodFieldProbModel(occupancy, spec, params)
+            if params.laser_model_type == LIKELIHOOD_FIELD_PROB
             else LikelihoodFieldModel(occupancy, spec, params))
         #: Distance to the nearest wall, for checking a scan against the map at the estimate (health.py).
         self.distance_field = (self.model.field if isinstance(self.model, LikelihoodFieldModel)
@@ -97,6 +102,7 @@ class Amcl:
         self.fit = FitAverages(params.recovery_alpha_slow, params.recovery_alpha_fast)
         self.last_gamma = 1.0  # tempering exponent of the last laser update (see weighting.py)
         self.last_beams: Beams | None = None  # the beams the last laser update weighed the particles with
+        self.last_scan_weights: ScanWeights | None = None  # likelihood_field_prob: what beam skipping did
         self.converged = False
         self._odom_at_update: Pose2D | None = None
         self._force_update = False
@@ -114,6 +120,7 @@ class Amcl:
         self.fit.reset()
         self.converged = False
         self.last_beams = None
+        self.last_scan_weights = None
         self._odom_at_update = None
         self._resample_count = 0
 
@@ -199,8 +206,12 @@ class Amcl:
         self.last_beams = beams
         if beams.ranges.size == 0:
             return  # nothing seen: every particle stays as likely as it was
-        log_l = self.model.log_likelihood(self.particles, beams)
-        self.fit.add(FitAverages.scan_fit(self.weights, log_l, beams.ranges.size))
+        if isinstance(self.model, LikelihoodFieldProbModel):
+            self.last_scan_weights = self.model.weigh(self.particles, beams, self.converged)
+            log_l, integrated = self.last_scan_weights.log_likelihood, self.last_scan_weights.integrated_count
+        else:
+            log_l, integrated = self.model.log_likelihood(self.particles, beams), beams.ranges.size
+        self.fit.add(FitAverages.scan_fit(self.weights, log_l, integrated))
         self.weights, self.last_gamma = reweight(self.weights, log_l, self.params.min_ess_ratio)
 
     def _resample(self) -> None:

@@ -17,7 +17,9 @@ from dataclasses import dataclass, fields
 DIFFERENTIAL = "nav2_amcl::DifferentialMotionModel"
 OMNI = "nav2_amcl::OmniMotionModel"
 LIKELIHOOD_FIELD = "likelihood_field"
+LIKELIHOOD_FIELD_PROB = "likelihood_field_prob"  # the likelihood field with beam skipping
 BEAM = "beam"
+LASER_MODELS = (LIKELIHOOD_FIELD, LIKELIHOOD_FIELD_PROB, BEAM)
 
 
 @dataclass(frozen=True)
@@ -32,9 +34,10 @@ class AmclParams:
     base_frame_id: str = "base_footprint"
     global_frame_id: str = "map"
     odom_frame_id: str = "odom"
-    beam_skip_distance: float = 0.5
-    beam_skip_error_threshold: float = 0.9
-    beam_skip_threshold: float = 0.3
+    # Beam skipping, read only by likelihood_field_prob (as in Nav2; see likelihood_field_prob.py):
+    beam_skip_distance: float = 0.5  # m from an obstacle within which a beam endpoint agrees with the map
+    beam_skip_error_threshold: float = 0.9  # fraction of max_beams skipped at which all beams count again
+    beam_skip_threshold: float = 0.3  # fraction of particles a beam must agree for to be integrated
     do_beamskip: bool = False
     lambda_short: float = 0.1
     laser_likelihood_max_dist: float = 2.0
@@ -93,9 +96,14 @@ class AmclParams:
             raise ValueError(f"AmclParams.max_beams must be >= 2, got {self.max_beams}")
         if self.resample_interval < 1:
             raise ValueError(f"AmclParams.resample_interval must be >= 1, got {self.resample_interval}")
-        if self.laser_model_type not in (LIKELIHOOD_FIELD, BEAM):
-            raise ValueError(f"AmclParams.laser_model_type must be '{LIKELIHOOD_FIELD}' or '{BEAM}' "
-                             f"(likelihood_field_prob is not implemented), got {self.laser_model_type!r}")
+        if self.laser_model_type not in LASER_MODELS:
+            raise ValueError(f"AmclParams.laser_model_type must be one of {', '.join(LASER_MODELS)}, "
+                             f"got {self.laser_model_type!r}")
+        if self.beam_skip_distance < 0.0:
+            raise ValueError(f"AmclParams.beam_skip_distance must be >= 0, got {self.beam_skip_distance}")
+        for name in ("beam_skip_threshold", "beam_skip_error_threshold"):
+            if not 0.0 <= getattr(self, name) <= 1.0:  # fractions (of particles, of beams)
+                raise ValueError(f"AmclParams.{name} must be in [0, 1], got {getattr(self, name)}")
         if self.robot_model_type not in (DIFFERENTIAL, OMNI):
             raise ValueError(f"AmclParams.robot_model_type must be '{DIFFERENTIAL}' or '{OMNI}', "
                              f"got {self.robot_model_type!r}")

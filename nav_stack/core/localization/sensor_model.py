@@ -14,12 +14,14 @@ and why it is not Nav2's 1 + Σ pz³, is in weighting.py.
 
 Beams: Nav2 keeps every ``step``-th beam with step = (count − 1) // (max_beams − 1) (at least 1), drops
 NaN and readings ≥ range_max; readings ≤ range_min are treated as range_max (thus dropped too).
+Nav2's likelihood_field_prob steps by ceil(count / max_beams) instead (likelihood_field_prob.py).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -27,10 +29,11 @@ import numpy.typing as npt
 from nav_stack.core.costmap.distance import squared_distance_cells
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.grid import FloatArray, GridSpec
-from nav_stack.core.localization.params import AmclParams
+from nav_stack.core.localization.params import LIKELIHOOD_FIELD_PROB, AmclParams
 
 Pose2D = tuple[float, float, float]
 F32 = npt.NDArray[np.float32]
+FloatTable = npt.NDArray[np.floating[Any]]
 _TINY = 1e-300  # floor of pz, so log pz stays finite when z_rand = 0
 
 
@@ -51,7 +54,10 @@ def select_beams(scan: LaserScan, laser_pose: Pose2D, params: AmclParams, keep_m
     range_min = scan.range_min if params.laser_min_range <= 0 else max(scan.range_min, params.laser_min_range)
     ranges = np.asarray(scan.ranges, dtype=np.float64).copy()
     ranges[ranges <= range_min] = range_max
-    step = max(1, (len(ranges) - 1) // (params.max_beams - 1))
+    if params.laser_model_type == LIKELIHOOD_FIELD_PROB:
+        step = max(1, -(-len(ranges) // params.max_beams))  # ceil(count / max_beams)
+    else:
+        step = max(1, (len(ranges) - 1) // (params.max_beams - 1))
     idx = np.arange(0, len(ranges), step)
     r = ranges[idx]
     bearing = scan.angles[idx] + laser_pose[2]
@@ -74,17 +80,18 @@ class GridLookup:
         return gx, gy, particles[:, 2] - self.spec.origin_yaw
 
 
-def _endpoints(lookup: GridLookup, particles: FloatArray, beams: Beams) -> tuple[F32, F32]:
-    """Beam endpoints of every particle in continuous cell coordinates, shape (N, B), float32."""
+def _endpoints(lookup: GridLookup, particles: FloatArray, beams: Beams,
+               dtype: npt.DTypeLike = np.float32) -> tuple[FloatTable, FloatTable]:
+    """Beam endpoints of every particle in continuous cell coordinates, shape (N, B), in ``dtype``."""
     lx, ly, _ = beams.laser_pose
     inv = 1.0 / lookup.spec.resolution
     ex = (lx + beams.ranges * np.cos(beams.bearings)) * inv
     ey = (ly + beams.ranges * np.sin(beams.bearings)) * inv
-    basis = np.stack([ex, ey, np.ones_like(ex)]).astype(np.float32)  # (3, B)
+    basis = np.stack([ex, ey, np.ones_like(ex)]).astype(dtype)  # (3, B)
     gx, gy, yaw = lookup.to_grid(particles)
     c, s = np.cos(yaw), np.sin(yaw)
-    rows_x = np.stack([c, -s, gx], axis=1).astype(np.float32)  # (N, 3)
-    rows_y = np.stack([s, c, gy], axis=1).astype(np.float32)
+    rows_x = np.stack([c, -s, gx], axis=1).astype(dtype)  # (N, 3)
+    rows_y = np.stack([s, c, gy], axis=1).astype(dtype)
     return rows_x @ basis, rows_y @ basis
 
 
@@ -105,10 +112,15 @@ class DistanceField:
         padded[1:-1, 1:-1] = np.minimum(np.sqrt(d2) * spec.resolution, max_dist)
         self.values = padded
 
-    def endpoint_indices(self, particles: FloatArray, beams: Beams) -> npt.NDArray[np.int32]:
-        """Flat index into ``values`` of every beam endpoint of every particle, shape (N, B)."""
+    def endpoint_indices(self, particles: FloatArray, beams: Beams,
+                         dtype: npt.DTypeLike = np.float32) -> npt.NDArray[np.int32]:
+        """Flat index into ``values`` of every beam endpoint of every particle, shape (N, B).
+
+        ``dtype`` is the precision of the endpoint arithmetic: float32 is faster; float64 places
+        endpoints within a hair of a cell edge in the same cell as a scalar float64 computation.
+        """
         spec = self.lookup.spec
-        gx, gy = _endpoints(self.lookup, particles, beams)
+        gx, gy = _endpoints(self.lookup, particles, beams, dtype)
         ix = np.clip(gx + 1.0, 0.0, spec.width + 1.0, out=gx).astype(np.int32)
         iy = np.clip(gy + 1.0, 0.0, spec.height + 1.0, out=gy).astype(np.int32)
         iy *= spec.width + 2
@@ -122,20 +134,27 @@ class DistanceField:
 
 
 class LikelihoodFieldModel:
-    """Precomputed likelihood field of an occupancy map."""
+    """Precomputed likelihood field of an occupancy map.
+
+    ``precision`` (class attribute): dtype of the endpoint arithmetic and of the log pz table; float32
+    halves the memory traffic of the hot loop, and a subclass may ask for float64.
+    """
+
+    precision: npt.DTypeLike = np.float32
 
     def __init__(self, occupancy: npt.NDArray[np.int8], spec: GridSpec, params: AmclParams) -> None:
         self.params = params
         self.field = DistanceField(occupancy, spec, params.laser_likelihood_max_dist)
-        self._tables: dict[float, F32] = {}
+        self._tables: dict[float, FloatTable] = {}
 
-    def _table(self, range_max: float) -> F32:
+    def _table(self, range_max: float) -> FloatTable:
+        """log pz of an endpoint in each cell of ``field.values`` (flat), for scans with ``range_max``."""
         table = self._tables.get(range_max)
         if table is None:
             p = self.params
             distance = self.field.values
             pz = p.z_hit * np.exp(-(distance**2) / (2.0 * p.sigma_hit**2)) + p.z_rand / range_max
-            table = np.log(np.maximum(pz, _TINY)).astype(np.float32).ravel()
+            table = np.log(np.maximum(pz, _TINY)).astype(self.precision).ravel()
             self._tables = {range_max: table}
         return table
 
@@ -143,7 +162,7 @@ class LikelihoodFieldModel:
         """Σ log pz over the beams, for each particle (N,)."""
         if beams.ranges.size == 0:
             return np.zeros(particles.shape[0])
-        indices = self.field.endpoint_indices(particles, beams)
+        indices = self.field.endpoint_indices(particles, beams, self.precision)
         total: FloatArray = self._table(beams.range_max).take(indices).sum(axis=1, dtype=np.float64)
         return total
 

@@ -199,8 +199,9 @@ def test_initial_pose_validation_and_spread() -> None:
 def test_params_are_checked_with_the_field_name() -> None:
     with pytest.raises(ValueError, match="min_particles"):
         AmclParams(min_particles=3000)
-    with pytest.raises(ValueError, match="likelihood_field_prob"):
-        AmclParams(laser_model_type="likelihood_field_prob")
+    with pytest.raises(ValueError, match="laser_model_type must be one of likelihood_field, "
+                                         "likelihood_field_prob, beam, got 'likelihood'"):
+        AmclParams(laser_model_type="likelihood")
     with pytest.raises(ValueError, match="sigma_hit"):
         AmclParams(sigma_hit=0.0)
 
