@@ -8,6 +8,11 @@ bisected to the last free fraction and the robot stops there.
 
 A contact counts once: it stays the same contact while the footprint, inflated by
 ``contact_margin`` (m), still touches an obstacle, however long the robot pushes.
+
+Other robots (sim2d.core.fleet): each is a named kinematic body in this space carrying its own
+footprint, moved with :meth:`CollisionModel.place_robot` whenever it moves. They stop this robot like
+any obstacle, and a touch reports the name of the robot touched, so the fleet can count the contact
+for both. Without them the space holds static shapes only and every answer is as before.
 """
 
 from __future__ import annotations
@@ -45,6 +50,16 @@ class MoveResult:
     pose: Pose2D
     blocked: bool
     contact: tuple[float, float] | None
+    other: str | None = None
+    """The robot that blocked the motion (its name in :meth:`CollisionModel.add_robot`); None: the world."""
+
+
+@dataclass(frozen=True)
+class Touch:
+    """An overlap found by a query: a contact point (m, map frame) and the robot touched (None: the world)."""
+
+    point: tuple[float, float]
+    other: str | None = None
 
 
 def build_space(geometry: StaticGeometry) -> pymunk.Space:
@@ -70,23 +85,51 @@ class CollisionModel:
         self._shape = pymunk.Poly(self._body, robot.footprint())
         self._inflated = pymunk.Poly(self._body, robot.footprint(), radius=params.contact_margin)
         self.in_contact = False
+        self._robots: dict[str, pymunk.Body] = {}          # the other robots, by name
+        self._robot_of: dict[pymunk.Shape, str] = {}       # their shapes -> their names
 
-    def _touch(self, pose: Pose2D, shape: pymunk.Poly) -> tuple[float, float] | None:
-        """Contact point (m) if ``shape`` placed at ``pose`` overlaps an obstacle, else None."""
+    def _touch(self, pose: Pose2D, shape: pymunk.Poly) -> Touch | None:
+        """The contact if ``shape`` placed at ``pose`` overlaps an obstacle, else None.
+
+        A robot among the shapes touched is reported before the world, so that a robot pressed against
+        a wall and a robot at once still counts the robot contact for both.
+        """
         self._body.position = (pose.x, pose.y)
         self._body.angle = pose.yaw
         shape.cache_bb()
         hits = self.space.shape_query(shape)
         if not hits:
             return None
-        points = hits[0].contact_point_set.points
+        hit = hits[0]
+        if self._robot_of:
+            hit = next((h for h in hits if h.shape in self._robot_of), hit)
+        other = self._robot_of.get(hit.shape)
+        points = hit.contact_point_set.points
         if not points:
-            return (pose.x, pose.y)
+            return Touch((pose.x, pose.y), other)
         point = points[0].point_b
-        return (float(point.x), float(point.y))
+        return Touch((float(point.x), float(point.y)), other)
 
-    def add_circle(self, pose: Pose2D, x: float, y: float, radius: float) -> bool:
-        """Add a static circle (m, map frame) unless it would overlap the footprint at ``pose``.
+    def add_robot(self, name: str, robot: RobotModel, pose: Pose2D) -> None:
+        """Another robot, ``name``, of model ``robot`` at ``pose`` (map frame): an obstacle that moves."""
+        if name in self._robots:
+            raise ValueError(f"collision: robot {name!r} is already in this space")
+        body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        shape = pymunk.Poly(body, robot.footprint())
+        self.space.add(body, shape)
+        self._robots[name] = body
+        self._robot_of[shape] = name
+        self.place_robot(name, pose)
+
+    def place_robot(self, name: str, pose: Pose2D) -> None:
+        """Move the other robot ``name`` (:meth:`add_robot`) to ``pose`` (map frame)."""
+        body = self._robots[name]
+        body.position = (pose.x, pose.y)
+        body.angle = pose.yaw
+        self.space.reindex_shapes_for_body(body)   # pymunk's index follows a moved body only when told
+
+    def circle_overlaps(self, pose: Pose2D, x: float, y: float, radius: float) -> bool:
+        """True when a circle at (x, y) of ``radius`` (m, map frame) would overlap the footprint at ``pose``.
 
         Why here: the robot's pymunk shape is the one that answers "touching?" everywhere else, so a
         dropped obstacle is refused by the same test that stops the robot at a wall.
@@ -96,10 +139,20 @@ class CollisionModel:
         self._body.position = (pose.x, pose.y)
         self._body.angle = pose.yaw
         self._shape.cache_bb()
-        if any(hit.shape is circle for hit in self.space.shape_query(self._shape)):
-            self.space.remove(circle)
+        touching = any(hit.shape is circle for hit in self.space.shape_query(self._shape))
+        self.space.remove(circle)
+        return touching
+
+    def add_circle(self, pose: Pose2D, x: float, y: float, radius: float) -> bool:
+        """Add a static circle (m, map frame) unless it would overlap the footprint at ``pose``."""
+        if self.circle_overlaps(pose, x, y, radius):
             return False
+        self.space.add(pymunk.Circle(self.space.static_body, radius, (x, y)))
         return True
+
+    def touching(self, pose: Pose2D) -> Touch | None:
+        """What the footprint at ``pose`` overlaps (the world or another robot), or None."""
+        return self._touch(pose, self._shape)
 
     def overlaps(self, pose: Pose2D) -> bool:
         """True when the footprint at ``pose`` overlaps an obstacle (teleport check)."""
@@ -114,9 +167,9 @@ class CollisionModel:
         current = pose
         for _ in range(substeps):
             candidate = integrate(current, v, w, h)
-            contact = self._touch(candidate, self._shape)
-            if contact is not None:
-                return MoveResult(self._bisect(current, v, w, h), True, contact)
+            touch = self._touch(candidate, self._shape)
+            if touch is not None:
+                return MoveResult(self._bisect(current, v, w, h), True, touch.point, touch.other)
             current = candidate
         return MoveResult(current, False, None)
 

@@ -141,11 +141,13 @@ class Lidar:
 
         numba is imported here, not with the module: tools that only read LidarParams stay light.
         """
+        self._cast_moving: Caster = cast_rays    # the reference casts moving bodies too
         if caster is None:
             from sim2d.core import lidar_jit
 
             lidar_jit.warm_up()  # compile or load it now, not in the first scan
             caster = lidar_jit.BinnedCaster()
+            self._cast_moving = lidar_jit.cast_each
         self._cast = caster
         self.params = params
         self.geometry = geometry
@@ -153,10 +155,19 @@ class Lidar:
         steps = np.arange(params.beams, dtype=np.float64)
         self._beam_angles: FloatArray = params.angle_min + params.angle_increment * steps
 
-    def scan(self, x: float, y: float, yaw: float) -> FloatArray:
-        """Ranges (beams,) (m) from a sensor at (x, y) facing ``yaw`` (rad), map frame."""
+    def scan(self, x: float, y: float, yaw: float, moving: StaticGeometry | None = None) -> FloatArray:
+        """Ranges (beams,) (m) from a sensor at (x, y) facing ``yaw`` (rad), map frame.
+
+        ``moving``: obstacles placed for this scan only (other robots, a handful of shapes), each beam
+        tested against each (lidar_jit.cast_each; cast_rays with the reference caster), merged beam by
+        beam with the static geometry's ranges. Why apart: the compiled caster files its geometry into
+        bins once; re-filing a large world because a robot moved would cost more than the scan.
+        """
         p = self.params
-        true = self._cast((x, y), self._beam_angles + yaw, self.geometry, p.range_max + 4.0 * p.noise_stddev)
+        angles, reach = self._beam_angles + yaw, p.range_max + 4.0 * p.noise_stddev
+        true = self._cast((x, y), angles, self.geometry, reach)
+        if moving is not None:
+            true = np.minimum(true, self._cast_moving((x, y), angles, moving, reach))
         measured = true + self.rng.normal(0.0, p.noise_stddev, p.beams) if p.noise_stddev > 0 else true.copy()
         measured[measured > p.range_max] = np.inf
         measured[measured < p.range_min] = -np.inf

@@ -7,6 +7,10 @@ same seed and the same command sequence give identical trajectories and scans, w
 
 Docks (sim2d.core.dock): their bodies, shaped for this robot, join the world's obstacles for collisions
 and the lidar; the battery charges on their contacts; ``detect_dock()`` reports a seen dock's tag.
+
+Two classes, one code path: :class:`RobotSim` is one robot with its sensors, battery and contacts, fed
+its random streams; :class:`Simulator` is the single-robot case, splitting the streams from one seed.
+sim2d.core.fleet steps several RobotSims in one world, each an obstacle for the others.
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from sim2d.core.battery import Battery, BatteryParams
-from sim2d.core.collision import CollisionModel, CollisionParams
+from sim2d.core.collision import CollisionModel, CollisionParams, Touch
 from sim2d.core.disturbances import DroppedObstacle, LidarDropout, OdometrySlip, TopicLoss
 from sim2d.core.dock import Dock, dock_in_contact
 from sim2d.core.dock_detection import DockDetectionParams, DockDetector, TagDetection
@@ -52,33 +56,62 @@ class SimParams:
 
 @dataclass(frozen=True)
 class CollisionEvent:
-    """A new contact: sim time (ns) and the contact point in the map frame (m)."""
+    """A new contact: sim time (ns), the contact point in the map frame (m), and the robot touched
+    (``other``, a fleet robot's name; None for the world: walls, docks, dropped obstacles)."""
 
     time_ns: int
     x: float
     y: float
+    other: str | None = None
 
 
-class Simulator:
-    """One robot, its sensors and battery in a world. Not thread-safe: one caller drives it."""
+@dataclass(frozen=True)
+class RobotStreams:
+    """One robot's independent random streams: lidar noise, odometry noise, dock detection noise."""
 
-    def __init__(self, world: World, robot: RobotModel, params: SimParams, rng: np.random.Generator,
+    lidar: np.random.Generator
+    odometry: np.random.Generator
+    detection: np.random.Generator
+
+    @classmethod
+    def spawn(cls, rng: np.random.Generator, robots: int = 1) -> list[RobotStreams]:
+        """The streams of ``robots`` robots, three children of ``rng`` each, robot after robot.
+
+        Why this order: the first robot's streams are ``rng``'s children 0, 1, 2, which the single-robot
+        simulator has always used (detection third, so the lidar and odometry streams are the same with
+        or without docks); so a one-robot fleet repeats a Simulator run with the same seed exactly, and
+        adding a robot at the end of a fleet changes no earlier robot's noise.
+        """
+        children = rng.spawn(3 * robots)
+        return [cls(*children[3 * i:3 * i + 3]) for i in range(robots)]
+
+
+class RobotSim:
+    """One robot, its sensors, battery and contacts in a world. Not thread-safe: one caller drives it.
+
+    In a fleet (sim2d.core.fleet) the other robots are named obstacles in :attr:`collision`'s space and
+    the ``moving`` geometry of :meth:`scan`; world-level changes (dropped obstacles, teleports) then go
+    through the Fleet, which keeps every robot's view of the others current.
+    """
+
+    def __init__(self, world: World, robot: RobotModel, params: SimParams, streams: RobotStreams,
                  lidar: LidarParams | None = None, odometry: OdometryParams | None = None,
                  battery: BatteryParams | None = None, collision: CollisionParams | None = None,
-                 dock_detection: DockDetectionParams | None = None) -> None:
-        """Components left None take their defaults; the lidar takes the robot's own sensor."""
-        self.world, self.robot, self.params = world, robot, params
-        lidar_rng, odom_rng = rng.spawn(2)
-        (detection_rng,) = rng.spawn(1)   # a third stream: the first two are the same with or without docks
+                 dock_detection: DockDetectionParams | None = None, name: str = "") -> None:
+        """Components left None take their defaults; the lidar takes the robot's own sensor.
+
+        ``name``: the robot's name in a fleet (its namespace), given to the others' collision events.
+        """
+        self.world, self.robot, self.params, self.name = world, robot, params, name
         bodies = tuple(dock.body(robot) for dock in world.docks)
         geometry = world.geometry.with_polygons(bodies)
-        self.lidar = Lidar(lidar or robot.lidar, geometry, lidar_rng)
-        self.odometry = Odometry(odometry or OdometryParams(), odom_rng)
+        self.lidar = Lidar(lidar or robot.lidar, geometry, streams.lidar)
+        self.odometry = Odometry(odometry or OdometryParams(), streams.odometry)
         self.battery = Battery(battery or BatteryParams(), has_docks=bool(world.docks))
         self.collision = CollisionModel(geometry, robot, collision or CollisionParams())
         self.docks: tuple[Dock, ...] = world.docks
         self.docked: Dock | None = None
-        self.detector = DockDetector(dock_detection or DockDetectionParams(), world.docks, detection_rng)
+        self.detector = DockDetector(dock_detection or DockDetectionParams(), world.docks, streams.detection)
         # what can hide dock i's tag: the world and every other dock's body (dropped obstacles join later)
         self._occluders: list[StaticGeometry] = [world.geometry.with_polygons(bodies[:i] + bodies[i + 1:])
                                                  for i in range(len(bodies))]
@@ -143,7 +176,8 @@ class Simulator:
     def drop_obstacle(self, obstacle: DroppedObstacle) -> bool:
         """Add a static circle that the lidar sees and the robot collides with from now on.
 
-        Refused (False) when it would overlap the robot's footprint (sim2d.core.disturbances).
+        Refused (False) when it would overlap the robot's footprint (sim2d.core.disturbances). In a
+        fleet, Fleet.drop_obstacle checks every robot first, then adds the circle to each.
         """
         if not self.collision.add_circle(self.pose, obstacle.x, obstacle.y, obstacle.radius):
             return False
@@ -166,9 +200,15 @@ class Simulator:
         """Output ``topic`` (disturbances.LOSABLE_TOPICS) publishes nothing for ``duration_s`` s from now."""
         self.topic_loss.start(topic, self.time_ns, duration_s)
 
-    def step(self) -> None:
-        """Advance one physics step: watchdog, limits, swept motion, contacts, odometry, battery."""
+    def step(self) -> Touch | None:
+        """Advance one physics step: watchdog, limits, swept motion, contacts, odometry, battery.
+
+        Returns:
+            The contact when another robot (a fleet's) stopped this one, so that the fleet can count it
+            for that robot too (:meth:`struck`); None otherwise, and always for a robot alone.
+        """
         dt = self.params.physics_step
+        robot_contact: Touch | None = None
         if self.time_ns - self._command_ns > self._timeout_ns or self.battery.empty:
             target_v = target_w = 0.0
         else:
@@ -184,7 +224,10 @@ class Simulator:
             if blocked:
                 v_new = w_new = 0.0
                 if not self.collision.in_contact and result.contact is not None:
-                    self.collision_events.append(CollisionEvent(self.time_ns + self.step_ns, *result.contact))
+                    self.collision_events.append(CollisionEvent(self.time_ns + self.step_ns, *result.contact,
+                                                                result.other))
+                if result.other is not None and result.contact is not None:
+                    robot_contact = Touch(result.contact, result.other)
             dx, dy = end.x - start.x, end.y - start.y
             c, s = math.cos(start.yaw), math.sin(start.yaw)
             self.odometry.update(*self.slip.apply(self.time_ns, c * dx + s * dy, -s * dx + c * dy,
@@ -197,6 +240,19 @@ class Simulator:
         self.docked = dock_in_contact(self.docks, self.pose) if self.docks else None
         self.battery.update(self.pose.x, self.pose.y, self.v, self.w, distance, dt, self.docked is not None)
         self.time_ns += self.step_ns
+        return robot_contact
+
+    def struck(self, other: str, time_ns: int, point: tuple[float, float]) -> None:
+        """Robot ``other`` ran into this one at sim time ``time_ns`` at ``point`` (m, map frame).
+
+        It is this robot's collision too: a new contact unless this robot is already touching
+        something, after which the usual hysteresis (:meth:`CollisionModel.update_contact`) ends it.
+        """
+        if self.collision.in_contact:
+            return
+        self.collision.in_contact = True
+        self.collision_count += 1
+        self.collision_events.append(CollisionEvent(time_ns, point[0], point[1], other))
 
     def scan_pose(self) -> Pose2D:
         """Pose of the scan frame (base_scan, rplidar_link...) in the map frame (m, rad)."""
@@ -205,15 +261,17 @@ class Simulator:
         return Pose2D(self.pose.x + c * ox - s * oy, self.pose.y + s * ox + c * oy,
                       normalize_angle(self.pose.yaw + self.robot.scan_yaw))
 
-    def scan(self) -> FloatArray:
+    def scan(self, moving: StaticGeometry | None = None) -> FloatArray:
         """One lidar scan (beams,) (m, REP 117) taken now; all +inf during a lidar dropout.
+
+        ``moving``: obstacles seen by this scan only, in the map frame (a fleet's other robots).
 
         The beams are cast even during a dropout, so the lidar's noise stream advances once per scan
         whether the sensor is up or not: a dropout changes the world's randomness only through what
         the robot does about it.
         """
         sensor = self.scan_pose()
-        ranges = self.lidar.scan(sensor.x, sensor.y, sensor.yaw)
+        ranges = self.lidar.scan(sensor.x, sensor.y, sensor.yaw, moving)
         if self.dropout.active(self.time_ns):
             ranges[:] = np.inf
         return ranges
@@ -230,3 +288,15 @@ class Simulator:
         """New contacts since the last call (the node publishes each once)."""
         events, self.collision_events = self.collision_events, []
         return events
+
+
+class Simulator(RobotSim):
+    """One robot alone in a world, its random streams split from one generator (RobotStreams.spawn)."""
+
+    def __init__(self, world: World, robot: RobotModel, params: SimParams, rng: np.random.Generator,
+                 lidar: LidarParams | None = None, odometry: OdometryParams | None = None,
+                 battery: BatteryParams | None = None, collision: CollisionParams | None = None,
+                 dock_detection: DockDetectionParams | None = None) -> None:
+        """Components left None take their defaults; the lidar takes the robot's own sensor."""
+        (streams,) = RobotStreams.spawn(rng)
+        super().__init__(world, robot, params, streams, lidar, odometry, battery, collision, dock_detection)
