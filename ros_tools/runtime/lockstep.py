@@ -54,8 +54,8 @@ CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
 #: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 10 s)
 REQUEST_HOLD = 2.0
-#: wall s a report waits for a sim-time timer due at its tick before the tick counts as done anyway
-OWED_GRACE = 0.5
+#: wall s a report waits for a sim-time timer due at its tick before the participant runs it itself
+OWED_GRACE = 0.25
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
 
@@ -129,11 +129,14 @@ class LockstepParticipant:
         """The newest tick (ns) done, given the newest /clock taken off the queue: one ns before the
         oldest call a periodic sim-time timer of this process still owes, when that comes earlier.
 
-        A timer is waited for OWED_GRACE wall seconds at most: past that the tick counts as done. Why:
-        rclpy's EventsExecutor can miss a sim-time timer's wake-up (it has no support for a ROS clock
-        that jumps; ros2/rclcpp#2457), and a report withheld for a call that never comes stopped the
-        world for good (CI run 6: a patrol and two farm runs hung for minutes on a loaded machine).
-        The simulator re-sends /clock every 0.1 s while it waits, so the grace is checked then.
+        A timer is waited for OWED_GRACE wall seconds at most: past that this participant makes the
+        owed call itself (timers.run_overdue) and the tick is done. Why: rclpy's EventsExecutor can
+        miss a sim-time timer's wake-up (it has no support for a ROS clock that jumps;
+        ros2/rclcpp#2457). A report withheld for a call that never comes stopped the world for good
+        (CI run 6), and a tick reported done without it left the timer dead: the CI runs of
+        2026-11-29 saw a state machine's control loop stop for seconds of sim time (a spin of 180
+        degrees turned 280) and a demo never leave its first navigation state. The simulator
+        re-sends /clock every 0.1 s while it waits, so the grace is checked then.
         """
         due = timers.earliest_due_ns(self.node.context)
         if due is None or due > clock_ns:
@@ -143,11 +146,13 @@ class LockstepParticipant:
         if self._owed_since is None or self._owed_since[0] != due:
             self._owed_since = (due, wall)
         elif wall - self._owed_since[1] > OWED_GRACE:
+            ran = timers.run_overdue(clock_ns, self.node.context)
+            self._owed_since = None
             self.node.get_logger().warning(
-                f"lockstep: a timer due at sim time {due * 1e-9:.3f} s has not run {OWED_GRACE} s (wall) "
-                "after its tick; reporting the tick done without it (the executor missed its wake-up)",
-                throttle_duration_sec=10.0)
-            return clock_ns
+                f"lockstep: the executor missed a timer due at sim time {due * 1e-9:.3f} s for {OWED_GRACE} "
+                f"s (wall); ran it here ({', '.join(ran) or 'none left'})", throttle_duration_sec=10.0)
+            left = timers.earliest_due_ns(self.node.context)  # one that ran has its next call ahead
+            return clock_ns if left is None or left > clock_ns else left - 1
         return due - 1
 
     def hold(self, until: Callable[[], bool], grace: float, wake: Any = None) -> None:

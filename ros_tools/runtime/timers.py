@@ -64,6 +64,25 @@ class _DueOnly:
         for hook in list(_AFTER_CALL):
             hook()
 
+    def run_missed(self) -> bool:
+        """Make the call the executor owes now, as its dispatch would (rcl takes the call, moving the
+        next one a period on; then the callback runs); False when canceled or destroyed.
+
+        For the lockstep participant only (:func:`run_overdue`); the after-call hooks do not run (the
+        participant that called this reports next). A dispatch the executor still had queued then
+        finds the timer a period ahead and is dropped as early (``__call__``).
+        """
+        timer = self.timer
+        try:
+            with timer.handle:
+                if timer.handle.is_timer_canceled():
+                    return False
+                timer.handle.call_timer()
+        except Exception:  # destroyed with its node (InvalidHandle): nothing owed any more
+            return False
+        self.callback()
+        return True
+
     def next_call_ns(self) -> int | None:
         """The clock time (ns) of the call this timer owes next; None when canceled or destroyed."""
         timer = self.timer
@@ -97,6 +116,22 @@ def earliest_due_ns(context: Any = None) -> int | None:
     owing = [t for t in list(_SIM_TIMERS) if context is None or t.node.context is context]
     calls = [call for call in (t.next_call_ns() for t in owing) if call is not None]
     return min(calls, default=None)
+
+
+def run_overdue(clock_ns: int, context: Any = None) -> list[str]:
+    """Run every periodic sim-time timer of this process (of nodes on ``context``, when given) whose
+    owed call is due at or before ``clock_ns``; the names of their callbacks, oldest call first.
+
+    Why: rclpy's EventsExecutor sometimes never dispatches a sim-time timer that is due (CI: the
+    state machine's 10 Hz spin control stopped for seconds of sim time, the robot turned 280 of 180
+    degrees; its signal-detector timer stopped and a demo never left StNavigateToWaypoint1). The
+    lockstep participant calls this for a timer its tick has waited for too long, so a missed
+    wake-up costs that wait, never the timer.
+    """
+    owing = [t for t in list(_SIM_TIMERS) if context is None or t.node.context is context]
+    due = sorted(((call, index, t) for index, t in enumerate(owing)
+                  if (call := t.next_call_ns()) is not None and call <= clock_ns), key=lambda c: c[:2])
+    return [getattr(t.callback, "__name__", "callback") for _, _, t in due if t.run_missed()]
 
 
 def add_after_call(hook: Callable[[], None]) -> None:

@@ -2,8 +2,10 @@
 
 The report of tick T waits until the process's timers due at or before T have run
 (ros_tools/runtime/timers.py, earliest_due_ns), so the simulator never steps past a cycle still to
-come. A timer whose wake-up the executor missed must not stop the world: after OWED_GRACE wall
-seconds the tick counts as done (CI run 6: nav2 stopped reporting and a patrol hung).
+come. A timer whose wake-up the executor missed must not stop the world, nor die: after OWED_GRACE
+wall seconds the participant makes the owed call itself (timers.run_overdue) and the tick is done
+(CI run 6: nav2 stopped reporting and a patrol hung; CI 2026-11-29: a state machine's control loop
+stopped for seconds of sim time).
 """
 
 from __future__ import annotations
@@ -12,9 +14,11 @@ from typing import Any
 
 import pytest
 from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.time import Time
 from rosgraph_msgs.msg import Clock
 
-from ros_tools.runtime import lockstep
+from ros_tools.runtime import lockstep, timers
 from ros_tools.runtime.lockstep import OWED_GRACE, LockstepParticipant
 
 pytestmark = pytest.mark.ros
@@ -36,6 +40,14 @@ def test_a_tick_waits_for_its_due_timer_then_counts_as_done_after_the_grace(
                                                             setattr(participant, "_last_report_ns", ns)))
     due = [100 * MS]
     monkeypatch.setattr(lockstep.timers, "earliest_due_ns", lambda _context=None: due[0])
+    rescued: list[int] = []
+
+    def run_overdue(clock_ns: int, _context: Any = None) -> list[str]:  # the owed call, made here
+        rescued.append(clock_ns)
+        due[0] += 100 * MS
+        return ["cycle"]
+
+    monkeypatch.setattr(lockstep.timers, "run_overdue", run_overdue)
     wall = [50.0]
     monkeypatch.setattr(lockstep.time, "monotonic", lambda: wall[0])
     try:
@@ -50,9 +62,37 @@ def test_a_tick_waits_for_its_due_timer_then_counts_as_done_after_the_grace(
         due[0] = 140 * MS                              # the next call is due and never comes
         participant._on_clock(_clock(160 * MS))
         assert reports[-1] == 140 * MS - 1
+        assert rescued == []
         wall[0] += OWED_GRACE + 0.01
         participant._on_clock(_clock(160 * MS))
-        assert reports[-1] == 160 * MS                 # the world goes on
+        assert rescued == [160 * MS]                   # the participant made the owed call itself
+        assert reports[-1] == 160 * MS                 # and the world goes on
     finally:
         participant.destroy()
+        node.destroy_node()
+
+
+def test_run_overdue_makes_the_owed_call_once_and_moves_the_timer_on(ros_context: Any) -> None:
+    """No executor spins here: the timer's call is due and only run_overdue makes it, as rcl would."""
+    sim_time = [Parameter("use_sim_time", value=True)]
+    node = Node("overdue_probe", context=ros_context, parameter_overrides=sim_time)
+    clock = node.get_clock()
+    calls: list[int] = []
+
+    def cycle() -> None:
+        calls.append(clock.now().nanoseconds)
+
+    clock.set_ros_time_override(Time(nanoseconds=10 * MS, clock_type=clock.clock_type))
+    timer = timers.create_periodic_timer(node, 0.1, cycle)
+    try:
+        assert timers.run_overdue(60 * MS, ros_context) == []        # not due before 110 ms
+        clock.set_ros_time_override(Time(nanoseconds=110 * MS, clock_type=clock.clock_type))
+        assert timers.run_overdue(110 * MS, ros_context) == ["cycle"]
+        assert calls == [110 * MS]
+        assert timers.earliest_due_ns(ros_context) == 210 * MS      # one period on, as rcl moves it
+        assert timers.run_overdue(110 * MS, ros_context) == []       # made once
+        timer.cancel()
+        clock.set_ros_time_override(Time(nanoseconds=400 * MS, clock_type=clock.clock_type))
+        assert timers.run_overdue(400 * MS, ros_context) == []       # a canceled timer owes nothing
+    finally:
         node.destroy_node()
