@@ -13,15 +13,25 @@ Layout (Nav2 style, config/sim2d.yaml)::
         lidar: {beams: 360, ...}     # LidarParams, OdometryParams, BatteryParams, CollisionParams
         lockstep: {enabled: false, participants: [nav2]}   # LockstepParams (string arrays are tuples)
         dock_detection: {rate: 10.0, fov: 1.25, ...}       # DockDetectionParams
+        fleet: ["robot1:waffle:-2.0,-0.5,0.0", "robot2:tb4:0.5,2.0,3.14"]   # several robots (below)
 
 The lidar's defaults are the robot's sensor (sim2d/core/robot.py: LDS-01 on the TurtleBot3s, RPLIDAR
 A1 on tb4), applied under the user's values: an explicit ``lidar.*`` (file, ``-p``) still wins.
+
+A fleet (issue 48) is the string array ``fleet``, one ``name:model:x,y,yaw`` per robot (yaw may be
+left out: 0). Why a string array rather than a list of mappings or a separate fleet file: ROS 2
+parameters have no nested lists, so a list of ``{name, model, spawn}`` mappings cannot be declared;
+a string array is one native parameter that ``-p fleet:=[...]``, a launch file and ``ros2 param get``
+all handle, and it keeps the whole simulator in one parameter file. Empty (the default) is one robot
+(``robot``, ``initial_pose``) on the un-namespaced topics. With a fleet, ``robot`` and
+``initial_pose`` are not used, except that ``lidar.*`` values that differ from ``robot``'s sensor
+apply to every robot's own sensor (:func:`fleet_robots`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -31,9 +41,10 @@ import yaml
 from sim2d.core.battery import BatteryParams
 from sim2d.core.collision import CollisionParams
 from sim2d.core.dock_detection import DockDetectionParams
+from sim2d.core.fleet import FleetRobot
 from sim2d.core.lidar import LidarParams
 from sim2d.core.odometry import OdometryParams
-from sim2d.core.robot import robot_model
+from sim2d.core.robot import Pose2D, robot_model
 from sim2d.core.simulator import SimParams
 
 NODE_NAME = "sim2d"
@@ -57,6 +68,9 @@ class NodeParams:
         clock_rate: /clock messages per sim second (Hz); sets the resolution of sim-time timers.
         battery_rate: /battery_state messages per sim second (Hz).
         rtf_log_period: wall seconds between log lines reporting the achieved real-time factor.
+        fleet: the robots of a fleet, ``name:model:x,y,yaw`` each (m, m, rad in the map frame;
+            :func:`parse_fleet`); each robot's topics and TF live under ``/<name>``. Empty: one
+            robot, ``robot`` at ``initial_pose``, on the un-namespaced topics.
     """
 
     world: str = "turtlebot3_world"
@@ -68,6 +82,7 @@ class NodeParams:
     clock_rate: float = 100.0
     battery_rate: float = 1.0
     rtf_log_period: float = 10.0
+    fleet: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.real_time_factor < 0.0:
@@ -77,6 +92,7 @@ class NodeParams:
         for name in ("clock_rate", "battery_rate", "rtf_log_period"):
             if getattr(self, name) <= 0.0:
                 raise ValueError(f"{name}: must be > 0, got {getattr(self, name)}")
+        parse_fleet(self.fleet)   # a bad entry fails with the parameters, before anything starts
 
 
 @dataclass(frozen=True)
@@ -90,7 +106,9 @@ class LockstepParams:
         timeout: wall seconds without a report after which a live participant is dropped (one
             warning); one whose process is gone is dropped after 1 s (sim2d/core/lockstep.py).
         startup_timeout: wall seconds to wait for the ``participants`` roles before the first step.
-        participants: roles (``nav2``, ``localization``...) that must report before the sim steps.
+        participants: roles (``nav2``, ``localization``...) that must report before the sim steps;
+            a fleet's stacks report as ``<robot>/<role>`` (``robot1/nav2``): any text without ':'
+            is a role, since ':' separates the role from the pid in a participant's name.
     """
 
     enabled: bool = False
@@ -125,6 +143,32 @@ class SimConfig:
         if self.lockstep.max_lead < self.sim.physics_step:
             raise ValueError(f"lockstep.max_lead: must be at least physics_step ({self.sim.physics_step} s), "
                              f"got {self.lockstep.max_lead}")
+
+
+def parse_fleet(entries: Sequence[str]) -> tuple[FleetRobot, ...]:
+    """The robots of a ``fleet`` parameter, in its order (which is also the fleet's step order).
+
+    Each entry is ``name:model:x,y,yaw`` (yaw optional, 0): ``robot1:waffle:-2.0,-0.5,0.0``. Names and
+    spawns are checked by FleetRobot (a ROS 2 name token, finite numbers); a repeated name or a spawn
+    on an obstacle needs the world and fails when the node builds the fleet (check_fleet).
+
+    Raises:
+        ValueError: naming the parameter and the entry, and what is wrong with it.
+    """
+    robots = []
+    for entry in entries:
+        where = f"fleet: entry {entry!r}"
+        parts = [part.strip() for part in entry.split(":")]
+        numbers = parts[2].split(",") if len(parts) == 3 else []
+        if len(numbers) not in (2, 3):
+            raise ValueError(f"{where}: expected 'name:model:x,y,yaw' (m, m, rad; yaw optional), "
+                             "e.g. 'robot1:waffle:-2.0,-0.5,0.0'")
+        try:
+            pose = Pose2D(*(float(number) for number in numbers))
+            robots.append(FleetRobot(parts[0], robot_model(parts[1]), pose))
+        except ValueError as exc:
+            raise ValueError(f"{where}: {str(exc).removeprefix('fleet: ')}") from exc
+    return tuple(robots)
 
 
 _ROOTS: tuple[type, ...] = (NodeParams, SimParams)
@@ -220,6 +264,24 @@ def build_config(values: dict[str, ParamValue]) -> SimConfig:
     merged = {**defaults(str(values.get("robot", NodeParams.robot))), **values}
     return SimConfig(_build(NodeParams, "", merged), _build(SimParams, "", merged),
                      *(_build(cls, f"{section}.", merged) for section, cls in _SECTIONS.items()))
+
+
+def fleet_robots(config: SimConfig) -> tuple[FleetRobot, ...]:
+    """The declared fleet, each robot with its own model's lidar under the user's ``lidar.*`` values.
+
+    Why: the lidar parameters default to ``robot``'s sensor (:func:`defaults`), one model for the whole
+    node, while a fleet mixes models. A ``lidar.*`` value that differs from ``robot``'s sensor was set
+    by the user and applies to every robot; the others keep each model's own figures (a value set
+    equal to ``robot``'s default cannot be told apart, and leaves the other models' figures).
+    """
+    reference = robot_model(config.node.robot).lidar
+    overrides = {f.name: getattr(config.lidar, f.name) for f in dataclasses.fields(LidarParams)
+                 if getattr(config.lidar, f.name) != getattr(reference, f.name)}
+    robots = parse_fleet(config.node.fleet)
+    if not overrides:
+        return robots
+    return tuple(dataclasses.replace(robot, model=dataclasses.replace(
+        robot.model, lidar=dataclasses.replace(robot.model.lidar, **overrides))) for robot in robots)
 
 
 def load_params_file(path: str | Path) -> dict[str, ParamValue]:
