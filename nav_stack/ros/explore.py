@@ -320,14 +320,11 @@ class ExploreNode(Node):
 def main(argv: list[str] | None = None) -> int:
     """``nav-explore [-f my_map] [--max-time S] [--executor events|single] [--ros-args ...]``;
     exit 0 complete, 3 max time, 1 map not saved, 130 interrupted."""
-    import rclpy
-    from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
-    from ros_tools.runtime.executor import add_executor_argument, make_executor
-    from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
-    from ros_tools.runtime.runner import destroy_nodes
+    from ros_tools.runtime.executor import add_executor_argument
+    from ros_tools.runtime.runner import run_nodes
 
     args_in = list(sys.argv[1:] if argv is None else argv)
     split = args_in.index("--ros-args") if "--ros-args" in args_in else len(args_in)
@@ -337,30 +334,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-sim-time", action="store_true", help="use the wall clock instead of /clock")
     add_executor_argument(parser)
     args = parser.parse_args(args_in[:split])
-    rclpy.init(args=["nav-explore", *args_in[split:]])
     overrides = [Parameter("use_sim_time", value=not args.no_sim_time)]
     if args.max_time is not None:
         overrides.append(Parameter("max_time", value=float(args.max_time)))
-    node = ExploreNode(args.map_file, parameter_overrides=overrides)
-    executor = make_executor(args.executor)
-    executor.add_node(node)
-    # The run ends by itself, which the runner's spin-until-shutdown cannot express: the main thread
-    # spins until the node says it finished (no callback ever waits).
-    participant = LockstepParticipant(node, "explore") if uses_sim_time(node) else None
-    code = 130
-    try:
-        while rclpy.ok() and not node.finished:
-            executor.spin_once(timeout_sec=0.1)
-        code = node.exit_code if node.finished else 130
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if participant is not None and rclpy.ok():
-            participant.destroy()
-        executor.shutdown()
-        destroy_nodes([node])
-        rclpy.try_shutdown()
-    return code
+    # The run ends by itself: the node says when it finished (its map saved) and with which code.
+    return run_nodes(lambda: [ExploreNode(args.map_file, parameter_overrides=overrides)], role="explore",
+                     rclpy_args=["nav-explore", *args_in[split:]], executor=args.executor,
+                     finished=lambda nodes: nodes[0].exit_code if nodes[0].finished else None,
+                     interrupted_code=130)
 
 
 if __name__ == "__main__":

@@ -7,11 +7,12 @@
 While a goal runs one status line shows distance remaining, ETA, recoveries and elapsed time;
 the end prints the result with its error code and message. Exit status: 0 on success, 1 on
 failure (aborted, rejected, missed waypoints, unconfirmed initial pose), 2 on bad input, 130
-after Ctrl-C (which cancels the goal first).
+after Ctrl-C or SIGTERM (which cancel the goal first).
 
 The client spins its executor (``--executor events``, the default, or ``single``) from the main
-thread until a future completes; its callbacks only record feedback and results. Ctrl-C only sets a
-flag that the spin loop turns into KeyboardInterrupt between two spins: raised from the signal handler
+thread until a future completes; its callbacks only record feedback and results. Ctrl-C and SIGTERM
+only set a flag (the shared runner's, ros_tools.runtime.runner.ros_process) that the spin loop turns
+into KeyboardInterrupt between two spins: raised from the signal handler
 inside the C++ EventsExecutor, it could leave the executor hung and the goal never canceled.
 """
 
@@ -19,16 +20,18 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
 from ros_tools.dds import keep_dds_local
+
+if TYPE_CHECKING:
+    from ros_tools.runtime.runner import RosProcess
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
 SERVER_TIMEOUT = 30.0  # s (wall) to find the action server
@@ -82,39 +85,35 @@ def _parser() -> argparse.ArgumentParser:
 
 
 class GoalRunner:
-    """One client node; sends a goal, prints progress, cancels on Ctrl-C."""
+    """One client node; sends a goal, prints progress, cancels on Ctrl-C or SIGTERM.
 
-    def __init__(self, executor: str | None = None) -> None:
+    ``process`` is the shared runner's (``ros_process``): rclpy set up without its own signal
+    handler, and a stop flag that SIGINT and SIGTERM raise; ``spin_until`` turns it into
+    KeyboardInterrupt between two spins.
+    """
+
+    def __init__(self, process: RosProcess, executor: str | None = None) -> None:
         import rclpy
         from rclpy.parameter import Parameter
-        from rclpy.signals import SignalHandlerOptions
 
-        from ros_tools.runtime.executor import make_executor
-
-        rclpy.init(args=["nav_goal"], signal_handler_options=SignalHandlerOptions.NO)
-        self.node = rclpy.create_node("nav_goal", parameter_overrides=[Parameter("use_sim_time", value=True)])
-        self.executor = make_executor(executor)
+        self._process = process
+        self.node = rclpy.create_node("nav_goal", context=process.context,
+                                      parameter_overrides=[Parameter("use_sim_time", value=True)])
+        self.executor = process.executor(executor)
         self.executor.add_node(self.node)
         self._last_status = 0.0
-        self._interrupted = False
-        signal.signal(signal.SIGINT, self._on_interrupt)
-
-    def _on_interrupt(self, signum: int, frame: Any) -> None:
-        self._interrupted = True
 
     def close(self) -> None:
-        import rclpy
-
+        """Shut the executor down and destroy the node (the context is the process's to shut down)."""
         self.executor.shutdown()
         self.node.destroy_node()
-        rclpy.try_shutdown()
 
     def spin_until(self, done: Any, timeout: float | None = None, interruptible: bool = True) -> bool:
         """Spin until ``done()`` (True) or ``timeout`` s of wall time (False); KeyboardInterrupt after
         Ctrl-C unless ``interruptible`` is False (the cancel that follows a Ctrl-C)."""
         deadline = None if timeout is None else time.monotonic() + timeout
         while not done():
-            if interruptible and self._interrupted:
+            if interruptible and self._process.stop_requested:
                 raise KeyboardInterrupt
             if deadline is not None and time.monotonic() > deadline:
                 return False
@@ -269,17 +268,20 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"nav-goal: error: {error}", file=sys.stderr)
             return EXIT_USAGE
     keep_dds_local()
-    runner = GoalRunner(args.executor)
-    try:
-        command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]
-        return command(runner, args)
-    except KeyboardInterrupt:
-        return EXIT_INTERRUPTED
-    except RuntimeError as error:
-        print(f"nav-goal: error: {error}", file=sys.stderr)
-        return EXIT_FAILED
-    finally:
-        runner.close()
+    from ros_tools.runtime.runner import ros_process
+
+    with ros_process(["nav_goal"]) as process:
+        runner = GoalRunner(process, args.executor)
+        try:
+            command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]
+            return command(runner, args)
+        except KeyboardInterrupt:
+            return EXIT_INTERRUPTED
+        except RuntimeError as error:
+            print(f"nav-goal: error: {error}", file=sys.stderr)
+            return EXIT_FAILED
+        finally:
+            runner.close()
 
 
 if __name__ == "__main__":

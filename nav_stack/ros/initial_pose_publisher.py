@@ -37,12 +37,12 @@ from __future__ import annotations
 import math
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
-import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from nav_stack.core.geometry import angle_diff, compose, yaw_or_nan
@@ -50,8 +50,7 @@ from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.frames import FrameError, Frames
 from nav_stack.ros.params import declare_dataclass
 from nav_stack.ros.qos import DEFAULT, LATCHED
-from ros_tools.runtime.executor import make_executor
-from ros_tools.runtime.runner import destroy_nodes, split_runner_flags
+from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
 NODE_NAME = "amcl_init_pose_publisher"
 RESTART_POLL_S = 0.5  # s (steady) between two looks for a new /amcl_pose publisher
@@ -194,30 +193,25 @@ class InitialPosePublisher(Node):
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run until AMCL confirms the pose (or the timeout); with exit_when_done false, stay idle.
+    """Run until AMCL confirms the pose (exit 0) or the timeout (exit 1); with exit_when_done false,
+    or resend_after_restart true, stay until Ctrl-C or SIGTERM (0 if AMCL confirmed the pose, else 1).
 
-    ``[--executor events|single] [--ros-args ...]``. The run ends by itself, which the runner's
-    spin-until-shutdown cannot express, so the main thread spins until the node is done.
+    ``[--executor events|single] [--ros-args ...]``. Not a lockstep participant: it only watches.
     """
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
 
     _, executor_kind, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
-    rclpy.init(args=rclpy_args)
-    node = InitialPosePublisher()
-    executor = make_executor(executor_kind)
-    executor.add_node(node)
-    try:
+
+    def outcome(nodes: Sequence[Any]) -> int:
+        return 0 if nodes and nodes[0].done else 1
+
+    def finished(nodes: Sequence[Any]) -> int | None:
+        node = nodes[0]
         stay = not node.params.exit_when_done or node.params.resend_after_restart
-        while rclpy.ok() and (node.done is None or stay):
-            executor.spin_once(timeout_sec=0.1)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        confirmed = bool(node.done)
-        executor.shutdown()
-        destroy_nodes([node])
-        rclpy.try_shutdown()
-    return 0 if confirmed else 1
+        return None if node.done is None or stay else outcome(nodes)
+
+    return run_nodes(lambda: [InitialPosePublisher()], role=NODE_NAME, rclpy_args=rclpy_args,
+                     executor=executor_kind, finished=finished, interrupted_code=outcome, lockstep=False)
 
 
 if __name__ == "__main__":

@@ -22,13 +22,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import rclpy
-import rclpy.context
 from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
 from rclpy.node import Node
@@ -41,7 +39,8 @@ from nav_stack.core.map_io import MapMode, OccupancyMap
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.params import declare_dataclass
-from ros_tools.runtime.executor import add_executor_argument, make_executor
+from ros_tools.runtime.executor import add_executor_argument
+from ros_tools.runtime.runner import run_nodes, split_runner_flags
 from ros_tools.runtime.waiting import steady_clock
 
 NODE_NAME = "map_saver"
@@ -189,7 +188,6 @@ def main(argv: list[str] | None = None) -> int:
     """Run the ``map_saver`` lifecycle node: ``[--autostart] [--executor events|single] [--ros-args ...]``
     (without ``--autostart`` a lifecycle manager configures it)."""
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
-    from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
     autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
     return run_nodes(lambda: [MapSaver()], role="map_saver", rclpy_args=rclpy_args, executor=executor,
@@ -227,32 +225,35 @@ def cli_main(argv: list[str] | None = None) -> int:
     except (ValueError, FileExistsError) as error:
         print(f"map_saver_cli: error: {error}", file=sys.stderr)
         return 2
-    context = rclpy.context.Context()
-    rclpy.init(args=["map_saver_cli", *ros_args], context=context)
-    node = Node("map_saver_cli", context=context)
-    executor = make_executor(args.executor, context)
-    executor.add_node(node)
     received: list[OccupancyGrid] = []
-    node.create_subscription(OccupancyGrid, args.map_topic, received.append, map_qos(True))
-    try:
-        deadline = node.get_clock().now().nanoseconds * 1e-9 + args.timeout
-        while not received and node.get_clock().now().nanoseconds * 1e-9 < deadline:
-            executor.spin_once(timeout_sec=0.05)
+    deadline: list[float] = []  # node-clock s by which the map must have come (set at the first check)
+
+    def build() -> list[Node]:
+        node = Node("map_saver_cli")
+        node.create_subscription(OccupancyGrid, args.map_topic, received.append, map_qos(True))
+        return [node]
+
+    def finished(nodes: Sequence[Any]) -> int | None:
+        """Checked between callbacks: save the first map that came, or give up at the deadline."""
+        now = nodes[0].get_clock().now().nanoseconds * 1e-9
+        deadline[:] = deadline or [now + args.timeout]
         if not received:
+            if now < deadline[0]:
+                return None
             print(f"map_saver_cli: error: no map received on '{args.map_topic}' within {args.timeout:.1f} s",
                   file=sys.stderr)
             return 1
-        data, spec = grid_from_occupancy(received[-1])
-        pgm, yaml_path = save_map(OccupancyMap(data, spec), request, overwrite=args.overwrite)
+        try:
+            data, spec = grid_from_occupancy(received[-1])
+            pgm, yaml_path = save_map(OccupancyMap(data, spec), request, overwrite=args.overwrite)
+        except (ValueError, OSError) as error:
+            print(f"map_saver_cli: error: {error}", file=sys.stderr)
+            return 1
         print(f"map_saver_cli: saved {pgm} and {yaml_path}")
         return 0
-    except (ValueError, OSError) as error:
-        print(f"map_saver_cli: error: {error}", file=sys.stderr)
-        return 1
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown(context=context)
+
+    return run_nodes(build, role="map_saver_cli", rclpy_args=["map_saver_cli", *ros_args],
+                     executor=args.executor, finished=finished, interrupted_code=130, lockstep=False)
 
 
 if __name__ == "__main__":

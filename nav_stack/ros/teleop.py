@@ -22,7 +22,7 @@ import sys
 import termios
 import time
 import tty
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from ros_tools.runtime.executor import add_executor_argument
@@ -107,15 +107,20 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``nav-teleop``; ROS arguments after ``--ros-args``."""
-    import rclpy
+    """Entry point of ``nav-teleop``; ROS arguments after ``--ros-args``.
+
+    The process shape is the shared runner's (ros_tools.runtime.runner.ros_process): rclpy's signal
+    handler off, SIGTERM (and Ctrl-C outside raw mode) only raise a flag, so the last stop is always
+    published and acknowledged while the context is still up. The main loop is the key reader's, not
+    a spin-until-done loop: a key is published the moment it is read.
+    """
     from rclpy.duration import Duration
     from rclpy.node import Node
     from rclpy.parameter import Parameter
 
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.cmd_vel import CmdVelPublisher
-    from ros_tools.runtime.executor import make_executor
+    from ros_tools.runtime.runner import ros_process
 
     args_in = list(sys.argv[1:] if argv is None else argv)
     split = args_in.index("--ros-args") if "--ros-args" in args_in else len(args_in)
@@ -123,52 +128,53 @@ def main(argv: list[str] | None = None) -> int:
     if args.keys is not None and (bad := sorted(set(args.keys) - set("wxads "))):
         print(f"nav-teleop: error: --keys: unknown keys {bad} (use w x a d s and space)", file=sys.stderr)
         return 2
-    rclpy.init(args=["nav-teleop", *args_in[split:]])
-    node = Node("teleop_keyboard")
-    executor = make_executor(args.executor)
-    executor.add_node(node)
-    # Unset: follow the type the robot's cmd_vel subscription takes (CmdVelPublisher with None).
-    stamped = node.declare_parameter("enable_stamped_cmd_vel", Parameter.Type.BOOL).value
-    cmd = CmdVelPublisher(node, None if stamped is None else bool(stamped))
-    state = TeleopState(*LIMITS[args.model])
+    with ros_process(["nav-teleop", *args_in[split:]]) as process:
+        node = Node("teleop_keyboard")
+        executor = process.executor(args.executor)
+        executor.add_node(node)
+        # Unset: follow the type the robot's cmd_vel subscription takes (CmdVelPublisher with None).
+        stamped = node.declare_parameter("enable_stamped_cmd_vel", Parameter.Type.BOOL).value
+        cmd = CmdVelPublisher(node, None if stamped is None else bool(stamped))
+        state = TeleopState(*LIMITS[args.model])
 
-    def pause() -> None:
-        """Serve the node for one period (the main loop's pacing; no callback waits)."""
-        deadline = time.monotonic() + args.period
-        while (left := deadline - time.monotonic()) > 0:
-            executor.spin_once(timeout_sec=left)
+        def pause() -> None:
+            """Serve the node for one period (the main loop's pacing; no callback waits)."""
+            deadline = time.monotonic() + args.period
+            while (left := deadline - time.monotonic()) > 0:
+                executor.spin_once(timeout_sec=left)
 
-    try:
-        if args.keys is not None:
-            deadline = time.monotonic() + SUBSCRIBER_WAIT
-            while cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
-                pause()  # a replay sent before discovery is lost
-                cmd.follow_subscribers()  # the robot's type, once the graph shows its subscription
-            if cmd.publisher.get_subscription_count() == 0:
-                print(f"nav-teleop: no cmd_vel subscriber after {SUBSCRIBER_WAIT:.0f} s; replaying anyway "
-                      "(is the simulator running, on this ROS_DOMAIN_ID?)", file=sys.stderr)
-            for key in args.keys:
-                state.press(key)
-                cmd.publish(state.linear, state.angular)
-                pause()
-        else:
-            _interactive(cmd, state, args.period)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        cmd.stop()
-        pause()  # let the stop leave before the node goes
-        cmd.publisher.wait_for_all_acked(Duration(seconds=ACK_WAIT))
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()
+        try:
+            if args.keys is not None:
+                deadline = time.monotonic() + SUBSCRIBER_WAIT
+                while (cmd.publisher.get_subscription_count() == 0 and time.monotonic() < deadline
+                       and process.ok()):
+                    pause()  # a replay sent before discovery is lost
+                    cmd.follow_subscribers()  # the robot's type, once the graph shows its subscription
+                if cmd.publisher.get_subscription_count() == 0 and process.ok():
+                    print(f"nav-teleop: no cmd_vel subscriber after {SUBSCRIBER_WAIT:.0f} s; replaying "
+                          "anyway (is the simulator running, on this ROS_DOMAIN_ID?)", file=sys.stderr)
+                for key in args.keys:
+                    if not process.ok():
+                        break
+                    state.press(key)
+                    cmd.publish(state.linear, state.angular)
+                    pause()
+            else:
+                _interactive(cmd, state, args.period, process.ok)
+        finally:
+            cmd.stop()
+            pause()  # let the stop leave before the node goes
+            cmd.publisher.wait_for_all_acked(Duration(seconds=ACK_WAIT))
+            executor.shutdown()
+            node.destroy_node()
     return 0
 
 
-def _interactive(cmd: object, state: TeleopState, period: float) -> None:
+def _interactive(cmd: object, state: TeleopState, period: float, running: Callable[[], bool]) -> None:
+    """Read keys until a quit key, or until ``running()`` turns false (SIGTERM)."""
     print(HELP)
     with raw_terminal():
-        while True:
+        while running():
             key = read_key(period)
             if key in QUIT_KEYS:
                 return

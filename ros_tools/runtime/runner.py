@@ -8,7 +8,23 @@ Here teardown is explicit and ordered: leave lockstep, stop the executor (pendin
 cancelled with it), destroy every waitable (action servers and clients) and then the nodes.
 
 A callback that raises is logged with its traceback and the process keeps serving: a fault in one
-goal must become a result, never a dead stack.
+goal must become a result, never a dead stack. The module imports rclpy only inside its functions, so
+a command can install :class:`StopOnSignal` before its slow imports.
+
+Two entry points, one underneath the other:
+
+- :func:`run_nodes` is a whole process in one call: nodes built by a function, spun until Ctrl-C,
+  SIGTERM or a ``finished`` check that returns the exit code, with a ``before_shutdown`` hook that
+  still has a live context (cancel goals, publish a last stop).
+- :func:`ros_process` is the part every process shares, as a context manager, for the few whose main
+  loop is not "spin until done" (a viewer with its own threads, a state machine runtime that owns its
+  executor, a library function called inside someone else's process): ``rclpy.init`` with the
+  process's own arguments and rclpy's signal handler off, SIGINT and SIGTERM only raising a flag
+  (:class:`StopOnSignal`), and the context shut down on the way out.
+
+Why rclpy's own signal handler stays off everywhere: it shuts the context down the moment SIGTERM
+arrives, before the process can cancel its goals or leave lockstep, and a process once spun on for an
+hour after SIGTERM that way (nav_stack/ros/autonomy/node.py).
 """
 
 from __future__ import annotations
@@ -16,16 +32,22 @@ from __future__ import annotations
 import logging
 import sys
 import threading
-from collections.abc import Callable, Sequence
-from typing import Any
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any
 
 from ros_tools.runtime.executor import add_executor_argument, make_executor
-from ros_tools.runtime.executor_watch import ExecutorWatch
-from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
+
+if TYPE_CHECKING:
+    from ros_tools.runtime.lockstep import LockstepParticipant
 
 _log = logging.getLogger("ros_tools.runtime")
 
 BuildNodes = Callable[[], Sequence[Any]]
+#: The exit code of a process that has finished by itself, None while it runs; called with the nodes.
+Finished = Callable[[Sequence[Any]], "int | None"]
+#: Called with (executor, nodes): readiness timers and banners before spinning, goal cancels after.
+NodesHook = Callable[[Any, Sequence[Any]], None]
 SPIN_SLICE = 0.1  # s: the longest the process goes without checking for Ctrl-C
 
 
@@ -72,7 +94,8 @@ def destroy_nodes(nodes: Sequence[Any]) -> None:
 
 
 def spin_until_shutdown(executor: Any, name: str = "process",
-                        stopped: Callable[[], bool] | None = None) -> None:
+                        stopped: Callable[[], bool] | None = None,
+                        stop: StopOnSignal | None = None) -> None:
     """Spin until the context shuts down (Ctrl-C, SIGTERM, ``rclpy.shutdown``) or ``stopped()``,
     logging callback faults.
 
@@ -82,16 +105,21 @@ def spin_until_shutdown(executor: Any, name: str = "process",
 
     In the main thread, Ctrl-C and SIGTERM only raise a flag that the loop checks between callbacks:
     a KeyboardInterrupt raised inside a callback would be logged by the EventsExecutor as a FATAL
-    "Exception in callback" in the middle of an orderly shutdown.
+    "Exception in callback" in the middle of an orderly shutdown. ``stop`` is the flag of a process
+    that installed it already (:func:`ros_process`); without it the loop installs its own for as long
+    as it spins.
     """
     from rclpy.executors import ExternalShutdownException
 
-    stop = StopOnSignal()
+    from ros_tools.runtime.executor_watch import ExecutorWatch
+
+    own_stop = stop is None
+    flag = StopOnSignal() if stop is None else stop
     watch = ExecutorWatch(executor, name)
     watch.spinning_thread = threading.get_ident()
     watch.start()
     try:
-        while executor.context.ok() and not stop.requested and not (stopped is not None and stopped()):
+        while executor.context.ok() and not flag.requested and not (stopped is not None and stopped()):
             try:
                 # spin_once in a loop, not spin(): the EventsExecutor's spin() never returns to
                 # Python; spin_once hands back control at least every SPIN_SLICE s.
@@ -104,7 +132,8 @@ def spin_until_shutdown(executor: Any, name: str = "process",
                 _log.exception("%s: a callback raised; the executor keeps spinning", name)
     finally:
         watch.stop()
-        stop.restore()
+        if own_stop:
+            flag.restore()
 
 
 class StopOnSignal:
@@ -112,15 +141,21 @@ class StopOnSignal:
 
     Why: Python raises KeyboardInterrupt wherever the main thread is, and while it spins that is
     often a callback; the executor then logs an ordinary Ctrl-C as a fatal callback exception with
-    its traceback. A loop that checks ``requested`` between spins stops cleanly instead. Off the main
-    thread (a test calling a run function from a thread) nothing is installed.
+    its traceback. A loop that checks ``requested`` between spins stops cleanly instead. The handlers
+    are set explicitly, also for a process a shell started in the background (which inherits SIGINT
+    ignored). Off the main thread (a test calling a run function from a thread) nothing is installed.
+
+    Args:
+        on_stop: also called from the handler, for a loop that is not the runner's and has its own
+            stop request (e.g. ``SmaccRuntime.request_stop``); it must only set a flag.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, on_stop: Callable[[], None] | None = None) -> None:
         import signal
         import threading
 
         self.requested = False
+        self.on_stop = on_stop
         self._previous: dict[int, Any] = {}
         if threading.current_thread() is threading.main_thread():
             for sig in (signal.SIGINT, signal.SIGTERM):
@@ -128,6 +163,8 @@ class StopOnSignal:
 
     def _on_signal(self, signum: int, frame: object) -> None:
         self.requested = True
+        if self.on_stop is not None:
+            self.on_stop()
 
     def restore(self) -> None:
         """Put the previous handlers back."""
@@ -135,6 +172,61 @@ class StopOnSignal:
 
         for sig, handler in self._previous.items():
             signal.signal(sig, handler)
+        self._previous = {}
+
+
+class RosProcess:
+    """What :func:`ros_process` yields: the initialised context and the process's stop flag."""
+
+    def __init__(self, context: Any, stop: StopOnSignal | None) -> None:
+        self.context = context
+        self.stop = stop
+
+    @property
+    def stop_requested(self) -> bool:
+        """Whether SIGINT or SIGTERM arrived (never, when the caller handles signals itself)."""
+        return self.stop is not None and self.stop.requested
+
+    def ok(self) -> bool:
+        """The context is up and no stop was asked for: the condition of a main loop."""
+        return bool(self.context.ok()) and not self.stop_requested
+
+    def executor(self, kind: str | None = None) -> Any:
+        """A new executor on this context (``events`` or ``single``; None: ``$NAVSUITE_EXECUTOR``)."""
+        return make_executor(kind, self.context)
+
+
+@contextmanager
+def ros_process(rclpy_args: Sequence[str] | None = None, *, context: Any = None,
+                handle_signals: bool = True) -> Iterator[RosProcess]:
+    """rclpy initialised for the block, without rclpy's signal handler; the context shut down after.
+
+    Args:
+        rclpy_args: the arguments rclpy sees (program name, then ``--ros-args`` ...); None takes
+            ``sys.argv``, as ``rclpy.init`` does.
+        context: an uninitialised ``rclpy.context.Context`` to initialise (a library function that runs
+            beside other contexts); None initialises rclpy's default context.
+        handle_signals: install :class:`StopOnSignal` for the block (its flag is ``stop_requested``).
+            False for a library function inside a process whose signals belong to its caller.
+
+    The flag is installed before ``rclpy.init`` and stays until the context is down, so a Ctrl-C
+    during start-up or teardown never surfaces as a KeyboardInterrupt in the middle of either.
+    """
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+    from rclpy.utilities import get_default_context
+
+    stop = StopOnSignal() if handle_signals else None
+    try:
+        rclpy.init(args=None if rclpy_args is None else list(rclpy_args), context=context,
+                   signal_handler_options=SignalHandlerOptions.NO)
+        try:
+            yield RosProcess(get_default_context() if context is None else context, stop)
+        finally:
+            rclpy.try_shutdown(context=context)
+    finally:
+        if stop is not None:
+            stop.restore()
 
 
 def activate(nodes: Sequence[Any]) -> None:
@@ -151,51 +243,75 @@ def activate(nodes: Sequence[Any]) -> None:
 
 def run_nodes(build_nodes: BuildNodes, *, role: str, rclpy_args: Sequence[str] | None = None,
               executor: str | None = None, autostart: bool = False,
-              ready: Callable[[], bool] | None = None,
-              on_start: Callable[[Any, Sequence[Any]], None] | None = None) -> int:
-    """Run one process of nodes until Ctrl-C or SIGTERM; its exit code.
+              ready: Callable[[], bool] | None = None, on_start: NodesHook | None = None,
+              finished: Finished | None = None, before_shutdown: NodesHook | None = None,
+              interrupted_code: int | Callable[[Sequence[Any]], int] = 0, lockstep: bool = True) -> int:
+    """Run one process of nodes until it finishes, Ctrl-C or SIGTERM; its exit code.
 
     Args:
-        build_nodes: builds the nodes (after ``rclpy.init``).
+        build_nodes: builds the nodes (after ``rclpy.init``, on rclpy's default context). What it
+            raises (e.g. a configuration error) leaves ``run_nodes`` after the teardown.
         role: the process's name in lockstep warnings and logs (``nav2``, ``localization``...).
         rclpy_args: the arguments rclpy sees (``--ros-args`` ...); None takes ``sys.argv``.
         executor: ``events`` or ``single``; None takes ``$NAVSUITE_EXECUTOR`` or ``events``.
         autostart: configure and activate the lifecycle nodes (normally a lifecycle manager does).
         ready: lockstep holds the simulator until it returns True (e.g. managers active).
         on_start: called with (executor, nodes) just before spinning (readiness timers, banners).
+        finished: for a process that ends by itself: checked between callbacks (at least every
+            SPIN_SLICE s), its first int ends the run and is the exit code.
+        before_shutdown: called with (executor, nodes) once spinning has ended, however it ended,
+            while the context is still up and the process still in lockstep: the place to cancel
+            goals or publish a last stop. It may spin ``executor`` itself, bounded by its own wait.
+        interrupted_code: the exit code after Ctrl-C, SIGTERM or an external shutdown; a function of
+            the nodes when the outcome so far decides it.
+        lockstep: take part in lockstep when the first node uses sim time (False for the process
+            that is the clock, or one that only watches).
     """
-    import rclpy
-    from rclpy.signals import SignalHandlerOptions
-
+    from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
     from ros_tools.shared_clock import share_sim_time
 
-    # The runner handles Ctrl-C and SIGTERM itself (spin_until_shutdown), so the context is still
-    # alive during teardown: nodes leave lockstep and cancel their goals on the way out.
-    rclpy.init(args=list(sys.argv if rclpy_args is None else rclpy_args),
-               signal_handler_options=SignalHandlerOptions.NO)
-    nodes: list[Any] = []
-    participant: LockstepParticipant | None = None
-    spinner: Any = None
-    try:
-        nodes = list(build_nodes())
-        share_sim_time(nodes)
-        spinner = make_executor(executor)
-        for node in nodes:
-            spinner.add_node(node)
-        if nodes and uses_sim_time(nodes[0]):
-            participant = LockstepParticipant(nodes[0], role, ready)
-        if autostart:
-            activate(nodes)
-        if on_start is not None:
-            on_start(spinner, nodes)
-        spin_until_shutdown(spinner, role)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        if participant is not None:
-            participant.destroy()
-        if spinner is not None:
-            spinner.shutdown()
-        destroy_nodes(nodes)
-        rclpy.try_shutdown()
-    return 0
+    args = list(sys.argv if rclpy_args is None else rclpy_args)
+    code: int | None = None
+
+    def done(nodes: Sequence[Any]) -> bool:
+        nonlocal code
+        if finished is not None and code is None:
+            code = finished(nodes)
+        return code is not None
+
+    def interrupted(nodes: Sequence[Any]) -> int:
+        return interrupted_code(nodes) if callable(interrupted_code) else interrupted_code
+
+    # The runner handles Ctrl-C and SIGTERM itself (a flag checked between callbacks), so the context
+    # is still alive during teardown: nodes leave lockstep and cancel their goals on the way out.
+    with ros_process(args) as process:
+        nodes: list[Any] = []
+        participant: LockstepParticipant | None = None
+        spinner: Any = None
+        try:
+            nodes = list(build_nodes())
+            share_sim_time(nodes)
+            spinner = process.executor(executor)
+            for node in nodes:
+                spinner.add_node(node)
+            if lockstep and nodes and uses_sim_time(nodes[0]):
+                participant = LockstepParticipant(nodes[0], role, ready)
+            if autostart:
+                activate(nodes)
+            if on_start is not None:
+                on_start(spinner, nodes)
+            if not done(nodes):
+                spin_until_shutdown(spinner, role, lambda: done(nodes), process.stop)
+            if code is None:
+                code = interrupted(nodes)
+            if before_shutdown is not None and process.context.ok():
+                before_shutdown(spinner, nodes)
+        except KeyboardInterrupt:  # a signal before the flag was installed, or off the main thread
+            code = interrupted(nodes) if code is None else code
+        finally:
+            if participant is not None and process.context.ok():  # else nobody can hear it leave
+                participant.destroy()
+            if spinner is not None:
+                spinner.shutdown()
+            destroy_nodes(nodes)
+    return code if code is not None else interrupted(nodes)

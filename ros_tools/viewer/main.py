@@ -113,12 +113,17 @@ def parse_args(argv: Sequence[str]) -> tuple[ViewerParams, list[str]]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Serve until Ctrl-C or SIGTERM (exit 0); 1 when the port cannot be bound.
+
+    The shared runner's process shape (ros_process): rclpy's signal handler off, a signal only raises
+    the flag this loop checks, then the app closes while the context is still up. The app spins its
+    own node in its own thread, so the main thread only waits here.
+    """
+    from ros_tools.runtime.runner import ros_process
+
     params, ros_args = parse_args(sys.argv[1:] if argv is None else argv)
     keep_dds_local()
-    import rclpy
-
-    rclpy.init(args=["navsuite-viewer", *ros_args])
-    try:
+    with ros_process(["navsuite-viewer", *ros_args]) as process:
         try:
             app = ViewerApp(params).start()
         except OSError as exc:
@@ -126,15 +131,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1
         print(f"viewer: {app.url}", flush=True)
         try:
-            while rclpy.ok():  # rclpy's SIGINT/SIGTERM handlers shut the context down
-                time.sleep(0.2)
-        except KeyboardInterrupt:
-            pass
+            while process.ok():
+                time.sleep(0.2)  # the main thread runs no callback: it only watches the stop flag
         finally:
             app.close()
-    finally:
-        if rclpy.ok():
-            rclpy.shutdown()
     return 0
 
 

@@ -178,39 +178,23 @@ def main(argv: list[str] | None = None) -> int:
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     keep_dds_local()
-    import rclpy
-    from rclpy.executors import ExternalShutdownException
     from rclpy.parameter import Parameter
-    from rclpy.signals import SignalHandlerOptions
 
-    from ros_tools.runtime.executor import make_executor
-    from ros_tools.runtime.runner import spin_until_shutdown
+    from ros_tools.runtime.runner import run_nodes
     from sim2d.ros.sim_node import Sim2dNode
 
-    # The simulator is the clock, not a lockstep participant: it runs no LockstepParticipant.
-    # Signals are handled by spin_until_shutdown (a flag checked between callbacks), so a Ctrl-C
-    # never lands in the middle of a stepping burst.
-    rclpy.init(args=["sim2d", *command.ros_args], signal_handler_options=SignalHandlerOptions.NO)
-    node: Any = None
-    executor: Any = None
+    def build() -> list[Any]:
+        return [Sim2dNode(parameter_overrides=[Parameter(name, value=value)
+                                               for name, value in command.values.items()])]
+
+    # The simulator is the clock, not a lockstep participant. Signals only raise the runner's flag,
+    # checked between callbacks, so a Ctrl-C never lands in the middle of a stepping burst.
     try:
-        node = Sim2dNode(parameter_overrides=[Parameter(name, value=value)
-                                              for name, value in command.values.items()])
-        executor = make_executor(command.executor)
-        executor.add_node(node)
-        spin_until_shutdown(executor, "sim2d")  # Ctrl-C and SIGTERM stop it between callbacks
+        return run_nodes(build, role="sim2d", rclpy_args=["sim2d", *command.ros_args],
+                         executor=command.executor, lockstep=False)
     except ValueError as exc:   # e.g. a bad '-p name:=value' after --ros-args
         print(f"sim2d: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if executor is not None:
-            executor.shutdown()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
 
 
 if __name__ == "__main__":

@@ -21,56 +21,27 @@ first, is off; signals during the teardown are ignored.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 from collections.abc import Sequence
-from types import FrameType
-from typing import TYPE_CHECKING, Any
 
 from ros_tools.dds import keep_dds_local
-
-if TYPE_CHECKING:
-    from smacc_py.ros.runtime import SmaccRuntime
+from ros_tools.runtime.runner import StopOnSignal, ros_process
 
 keep_dds_local()
 
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-
-class _StopOnSignal:
-    """SIGINT/SIGTERM handler that asks the runtime to stop (or remembers it, before there is one).
-    Set explicitly, as a process started in the background by a shell inherits SIGINT ignored."""
-
-    def __init__(self) -> None:
-        self.requested = False
-        self.runtime: SmaccRuntime | None = None
-        self._previous: dict[int, Any] = {}
-
-    def __call__(self, signum: int, frame: FrameType | None) -> None:
-        self.requested = True
-        if self.runtime is not None:
-            self.runtime.request_stop()
-
-    def install(self) -> None:
-        self._previous = {sig: signal.signal(sig, self) for sig in STOP_SIGNALS}
-
-    def restore(self) -> None:
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-
 
 def main(argv: Sequence[str] | None = None) -> int:
-    stop = _StopOnSignal()
-    stop.install()  # first: a Ctrl-C while rclpy and the machine import must not print a traceback
+    # First: a Ctrl-C while rclpy and the machine import must not print a traceback. The same flag
+    # serves the whole run (ros_process is told not to install its own) and, once there is a runtime,
+    # also asks it to stop.
+    stop = StopOnSignal()
     try:
         return _run(argv, stop)
     finally:
         stop.restore()
 
 
-def _run(argv: Sequence[str] | None, stop: _StopOnSignal) -> int:
-    import rclpy
-    from rclpy.signals import SignalHandlerOptions
+def _run(argv: Sequence[str] | None, stop: StopOnSignal) -> int:
     from rclpy.utilities import remove_ros_args
 
     from ros_tools.runtime.executor import add_executor_argument
@@ -92,27 +63,25 @@ def _run(argv: Sequence[str] | None, stop: _StopOnSignal) -> int:
         return 2
     if stop.requested:
         return 0
-    rclpy.init(args=args_in, signal_handler_options=SignalHandlerOptions.NO)
-    runtime = None
-    try:
-        runtime = SmaccRuntime(sm_type, executor=options.executor)
-        stop.runtime = runtime
-        if stop.requested:
-            return 0
-        logger = runtime.node.get_logger()
-        runtime.sm.add_observer(TransitionPrinter(lambda line: logger.info(line)))
-        runtime.start()
-        runtime.spin()
-    except (ValueError, SmaccError) as error:  # bad parameters or configuration: the message names them
-        print(f"smacc-run: {error}", file=sys.stderr)
-        return 2
-    finally:
+    # The runtime owns its executor and spin loop (smacc_py.ros.runtime), so this is the runner's
+    # process shape without its spin loop: rclpy's signal handler off, the context shut down last.
+    with ros_process(args_in, handle_signals=False):
+        runtime = None
         try:
+            runtime = SmaccRuntime(sm_type, executor=options.executor)
+            stop.on_stop = runtime.request_stop
+            if stop.requested:
+                return 0
+            logger = runtime.node.get_logger()
+            runtime.sm.add_observer(TransitionPrinter(lambda line: logger.info(line)))
+            runtime.start()
+            runtime.spin()
+        except (ValueError, SmaccError) as error:  # bad parameters or configuration: the message names them
+            print(f"smacc-run: {error}", file=sys.stderr)
+            return 2
+        finally:
             if runtime is not None:
                 runtime.shutdown()
-        finally:
-            if rclpy.ok():
-                rclpy.shutdown()
     return 0
 
 

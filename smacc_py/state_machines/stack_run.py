@@ -205,10 +205,10 @@ def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | No
     value) as its parameters; not yet spinning nor started, so observers can be added first. Shut down,
     context included, when the block ends. ``enable_stamped_cmd_vel`` follows the stack
     (:func:`use_stamped_cmd_vel`) unless ``overrides`` set it."""
-    import rclpy
     from rclpy.context import Context
     from rclpy.parameter import Parameter
 
+    from ros_tools.runtime.runner import ros_process
     from smacc_py.ros.runtime import SmaccRuntime
 
     args = ["--ros-args", "--params-file", str(params_file)] if params_file else []
@@ -216,17 +216,16 @@ def machine_runtime(machine: type[SmaccStateMachineBase], params_file: Path | No
     values = {**stamped, **(overrides or {})}
     parameters = [Parameter("use_sim_time", value=True),
                   *(Parameter(name, value=value) for name, value in values.items())]
-    context = Context()
-    rclpy.init(args=args, context=context)
-    runtime = None
-    try:
-        runtime = SmaccRuntime(machine, context=context, parameter_overrides=parameters)
-        yield runtime
-    finally:
-        if runtime is not None:
-            runtime.shutdown()
-        if context.ok():
-            rclpy.shutdown(context=context)
+    # A library block inside a demo's process: its own context beside others, and no signal handling
+    # of its own (the demo's run_stack_mission owns SIGINT and SIGTERM).
+    with ros_process(args, context=Context(), handle_signals=False) as process:
+        runtime = None
+        try:
+            runtime = SmaccRuntime(machine, context=process.context, parameter_overrides=parameters)
+            yield runtime
+        finally:
+            if runtime is not None:
+                runtime.shutdown()
 
 
 @contextmanager

@@ -276,45 +276,27 @@ def _ros_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until ``max_cycles`` or Ctrl-C; exit 2 with one line on a configuration error."""
     args, executor_kind = _ros_args(sys.argv[1:] if argv is None else argv)
-    import rclpy
-    from rclpy.signals import SignalHandlerOptions
-
     import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
-    from ros_tools.runtime.executor import make_executor
-    from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
-    from ros_tools.runtime.runner import destroy_nodes, spin_until_shutdown
+    from ros_tools.runtime.runner import run_nodes
 
-    # Ctrl-C and SIGTERM are the spin loop's (spin_until_shutdown), so the context is still alive
-    # in the teardown: the running goal is cancelled and the node leaves lockstep. With rclpy's own
-    # handlers, a SIGTERM shut the context down first and the process once spun on for an hour.
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    node: AutonomyNode | None = None
-    participant: LockstepParticipant | None = None
-    executor = make_executor(executor_kind)
+    def halt(executor: Any, nodes: Sequence[Any]) -> None:
+        """Halt first: a running goal is cancelled while its client still exists (and, in lockstep,
+        while the simulator still steps for the answer)."""
+        node = nodes[0]
+        node.stop()
+        deadline = time.monotonic() + CANCEL_ANSWER_WAIT
+        while not node.navigator.cancels_answered() and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+
+    # Ctrl-C and SIGTERM are the runner's (a flag), so the context is still alive in the teardown:
+    # the running goal is cancelled and the node leaves lockstep. With rclpy's own handlers, a
+    # SIGTERM shut the context down first and the process once spun on for an hour.
     try:
-        try:
-            node = AutonomyNode()
-        except ValueError as error:  # LocationsError, BtLoadError, parameter errors
-            print(f"autonomy_node: {error}".replace("\n", " "), file=sys.stderr, flush=True)
-            return EXIT_CONFIG
-        executor.add_node(node)
-        participant = LockstepParticipant(node, "autonomy") if uses_sim_time(node) else None
-        # The run may also end by itself (max_cycles): the node then says it finished.
-        spin_until_shutdown(executor, "autonomy", stopped=lambda: node is not None and node.finished)
-        return 0
-    except KeyboardInterrupt:
-        return 0
-    finally:
-        if node is not None and rclpy.ok():
-            node.stop()  # halt first: a running goal is cancelled while its client still exists
-            deadline = time.monotonic() + CANCEL_ANSWER_WAIT
-            while not node.navigator.cancels_answered() and time.monotonic() < deadline:
-                executor.spin_once(timeout_sec=0.05)
-        if participant is not None and rclpy.ok():
-            participant.destroy()
-        executor.shutdown()
-        destroy_nodes([node] if node is not None else [])
-        rclpy.try_shutdown()
+        return run_nodes(lambda: [AutonomyNode()], role="autonomy", rclpy_args=args, executor=executor_kind,
+                         finished=lambda nodes: 0 if nodes[0].finished else None, before_shutdown=halt)
+    except ValueError as error:  # LocationsError, BtLoadError, parameter errors
+        print(f"autonomy_node: {error}".replace("\n", " "), file=sys.stderr, flush=True)
+        return EXIT_CONFIG
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from typing import Any
 
 from ros_tools.dds import keep_dds_local
 
@@ -30,19 +31,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     from rclpy.duration import Duration
     from std_msgs.msg import UInt16
 
-    rclpy.init()
-    node = rclpy.create_node("smacc_key")
-    try:
-        publisher = node.create_publisher(UInt16, options.topic, 10)
-        deadline = time.monotonic() + options.wait
-        while publisher.get_subscription_count() == 0:
-            if time.monotonic() > deadline:
-                print(
-                    f"smacc-key: nobody subscribes {options.topic} (waited {options.wait:.0f} s)",
-                    file=sys.stderr,
-                )
-                return 1
-            time.sleep(0.05)
+    from ros_tools.runtime.runner import run_nodes
+
+    publishers: list[Any] = []
+    deadline: list[float] = []  # time.monotonic() after which nobody listening is an error
+
+    def build() -> list[Any]:
+        node = rclpy.create_node("smacc_key")
+        publishers.append(node.create_publisher(UInt16, options.topic, 10))
+        deadline.append(time.monotonic() + options.wait)
+        return [node]
+
+    def finished(nodes: Sequence[Any]) -> int | None:
+        """Checked between spins: send the key once a subscriber shows, then wait for its ack."""
+        publisher = publishers[0]
+        if publisher.get_subscription_count() == 0:
+            if time.monotonic() <= deadline[0]:
+                return None
+            print(f"smacc-key: nobody subscribes {options.topic} (waited {options.wait:.0f} s)",
+                  file=sys.stderr)
+            return 1
         publisher.publish(UInt16(data=ord(options.key)))
         if not publisher.wait_for_all_acked(Duration(seconds=options.wait)):
             print(
@@ -53,9 +61,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1
         print(f"smacc-key: sent {options.key!r} on {options.topic}")
         return 0
-    finally:
-        node.destroy_node()
-        rclpy.shutdown()
+
+    # argv[0] only: the key and options are not rclpy's (a --ros-args tail was never accepted here).
+    return run_nodes(build, role="smacc_key", rclpy_args=sys.argv[:1], finished=finished,
+                     interrupted_code=130, lockstep=False)
 
 
 if __name__ == "__main__":

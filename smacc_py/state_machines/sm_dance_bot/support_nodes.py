@@ -17,10 +17,8 @@ Stops on SIGINT or SIGTERM.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 from collections.abc import Sequence
-from types import FrameType
 from typing import Any
 
 from ros_tools.dds import keep_dds_local
@@ -54,7 +52,7 @@ def reading_at(options: argparse.Namespace, sim_s: float) -> float:
 
 
 def make_nodes(options: argparse.Namespace, context: Any) -> list[Any]:
-    """The three nodes (LED, temperature, service3) on ``context``."""
+    """The three nodes (LED, temperature, service3) on ``context`` (None: rclpy's default context)."""
     from rclpy.node import Node
     from rclpy.parameter import Parameter
     from rclpy.qos import DurabilityPolicy, QoSProfile
@@ -97,40 +95,13 @@ def make_nodes(options: argparse.Namespace, context: Any) -> list[Any]:
     return [led, sensor, service3]
 
 
-def _interrupt(signum: int, frame: FrameType | None) -> None:
-    raise KeyboardInterrupt
-
-
 def main(argv: Sequence[str] | None = None) -> int:
-    import rclpy
-    from rclpy.context import Context
-    from rclpy.executors import ExternalShutdownException
-    from rclpy.signals import SignalHandlerOptions
-
-    from ros_tools.runtime.executor import make_executor
+    """Serve until SIGINT or SIGTERM (exit 0). Not a lockstep participant: the devices only answer."""
+    from ros_tools.runtime.runner import run_nodes
 
     options = parse_args(argv)
-    context = Context()
-    rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, _interrupt)
-    executor = make_executor(None, context)
-    nodes = make_nodes(options, context)
-    for node in nodes:
-        executor.add_node(node)
-    print(READY_LINE, flush=True)
-    try:
-        while context.ok():
-            executor.spin_once(timeout_sec=0.5)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        for node in nodes:
-            node.destroy_node()
-        if context.ok():
-            rclpy.shutdown(context=context)
-    return 0
+    return run_nodes(lambda: make_nodes(options, None), role="support_nodes",
+                     on_start=lambda executor, nodes: print(READY_LINE, flush=True), lockstep=False)
 
 
 if __name__ == "__main__":
