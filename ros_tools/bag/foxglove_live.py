@@ -29,12 +29,12 @@ from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.signals import SignalHandlerOptions
 
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.recorder import SPIN_SLICE, Recorder, RecordOptions, spin_for
 from ros_tools.bag.schema import SCHEMA_ENCODING, message_definition
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import ros_process
 from ros_tools.status_line import StatusLine, topic_counts
 from ros_tools.types import parse_type_name
 
@@ -189,10 +189,8 @@ def run_foxglove(options: FoxgloveOptions, status: StatusLine | None = None) -> 
     """
     sdk = load_sdk()
     status = status or StatusLine()
-    context = rclpy.Context()
-    rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
-    try:
-        bridge = FoxgloveBridge(options, context, sdk).start()
+    with ros_process(context=rclpy.Context(), handle_signals=False) as process:  # Ctrl-C ends the loop
+        bridge = FoxgloveBridge(options, process.context, sdk).start()
         try:
             print(f"streaming to Foxglove: open {bridge.url} (Open connection > Foxglove WebSocket)",
                   flush=True)
@@ -206,9 +204,6 @@ def run_foxglove(options: FoxgloveOptions, status: StatusLine | None = None) -> 
             pass
         finally:
             bridge.close()
-    finally:
-        if context.ok():
-            rclpy.shutdown(context=context)
     counts = dict(bridge.recorder.counts)
     status.finish(f"streamed {sum(counts.values())} messages on {len(counts)} topics")
     return counts

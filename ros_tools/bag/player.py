@@ -25,14 +25,13 @@ from builtin_interfaces.msg import Time
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from rclpy.signals import SignalHandlerOptions
 from rosgraph_msgs.msg import Clock
 
 from ros_tools.bag.qos import parse_offered_qos, playback_profile
 from ros_tools.bag.reader import BagError, BagReader
 from ros_tools.bag.recorder import full_topic_name, spin_for
 from ros_tools.runtime.executor import make_executor
-from ros_tools.runtime.runner import StopOnSignal
+from ros_tools.runtime.runner import StopOnSignal, ros_process
 from ros_tools.status_line import StatusLine
 from ros_tools.types import import_type
 
@@ -178,9 +177,9 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
         if stop.requested:
             raise KeyboardInterrupt
 
-    with BagReader(options.bag) as reader:
-        context = rclpy.Context()
-        rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
+    session = ros_process(context=rclpy.Context(), handle_signals=False)  # play()'s signals: its own flag
+    with BagReader(options.bag) as reader, session as process:
+        context = process.context
         node = Node(f"bag_player_{os.getpid()}", context=context)
         executor = make_executor(options.executor, context)
         executor.add_node(node)
@@ -208,8 +207,6 @@ def run_play(options: PlayOptions, status: StatusLine | None = None) -> int:
         finally:
             executor.shutdown()
             node.destroy_node()
-            if context.ok():
-                rclpy.shutdown(context=context)
             stop.restore()
     status.finish(f"played {player.published} messages from {options.bag}")
     return player.published

@@ -25,7 +25,6 @@ import rclpy
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 from rclpy.validate_full_topic_name import validate_full_topic_name
@@ -34,7 +33,7 @@ from ros_tools.bag.qos import offered_qos_yaml, request_for_offers
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.writer import BagWriter
 from ros_tools.runtime.executor import make_executor
-from ros_tools.runtime.runner import StopOnSignal
+from ros_tools.runtime.runner import StopOnSignal, ros_process
 from ros_tools.status_line import StatusLine, topic_counts
 from ros_tools.types import import_type
 
@@ -232,8 +231,12 @@ def run_record(options: RecordOptions, status: StatusLine | None = None) -> dict
 
 def _record(options: RecordOptions, status: StatusLine, stop: StopOnSignal) -> dict[str, int]:
     writer = BagWriter(options.output, options.compression)  # fails early on an unwritable path
-    context = rclpy.Context()
-    rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
+    with ros_process(context=rclpy.Context(), handle_signals=False) as process:  # record()'s signals
+        return _record_in(process.context, writer, options, status, stop)
+
+
+def _record_in(context: rclpy.Context, writer: BagWriter, options: RecordOptions, status: StatusLine,
+               stop: StopOnSignal) -> dict[str, int]:
     node = Node(f"bag_recorder_{os.getpid()}", context=context,
                 parameter_overrides=[Parameter("use_sim_time", value=options.use_sim_time)])
     executor = make_executor(options.executor, context)
@@ -260,8 +263,6 @@ def _record(options: RecordOptions, status: StatusLine, stop: StopOnSignal) -> d
         writer.close()
         executor.shutdown()
         node.destroy_node()
-        if context.ok():
-            rclpy.shutdown(context=context)
     total = sum(recorder.counts.values())
     status.finish(f"recorded {total} messages on {len(recorder.counts)} topics "
                   f"({elapsed:.1f} s) to {options.output}")

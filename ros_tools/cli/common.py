@@ -20,12 +20,11 @@ from rclpy.context import Context
 from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.signals import SignalHandlerOptions
 from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
-from rclpy.utilities import try_shutdown
 
 from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import make_executor
+from ros_tools.runtime.runner import ros_process
 
 #: Minimum seconds list/info verbs listen to DDS discovery before answering (ros2cli's default).
 DEFAULT_SPIN_TIME = 0.5
@@ -144,24 +143,22 @@ def ros_session(executor_kind: str | None = None) -> Iterator[Session]:
     ``executor_kind``: ``events`` or ``single`` (None: ``$NAVSUITE_EXECUTOR`` or ``events``).
     """
     keep_dds_local()
-    context = Context()
-    rclpy.init(context=context, signal_handler_options=SignalHandlerOptions.NO)
-    node = None
-    executor = None
-    try:
-        node = rclpy.create_node(
-            f"_ros2py_{os.getpid()}", context=context, start_parameter_services=False,
-            enable_rosout=False,
-        )
-        executor = make_executor(executor_kind, context)
-        executor.add_node(node)
-        yield Session(node, executor)
-    finally:
-        if executor is not None:
-            executor.shutdown(timeout_sec=1.0)
-        if node is not None:
-            node.destroy_node()  # type: ignore[no-untyped-call]
-        try_shutdown(context=context)
+    with ros_process(context=Context(), handle_signals=False) as process:  # the verb's KeyboardInterrupt
+        node = None
+        executor = None
+        try:
+            node = rclpy.create_node(
+                f"_ros2py_{os.getpid()}", context=process.context, start_parameter_services=False,
+                enable_rosout=False,
+            )
+            executor = make_executor(executor_kind, process.context)
+            executor.add_node(node)
+            yield Session(node, executor)
+        finally:
+            if executor is not None:
+                executor.shutdown(timeout_sec=1.0)
+            if node is not None:
+                node.destroy_node()  # type: ignore[no-untyped-call]
 
 
 def add_wait_options(parser: argparse.ArgumentParser) -> None:

@@ -6,7 +6,7 @@
   module), which announces a new participant more often so that processes find each other in
   milliseconds instead of waiting up to 3 s for Fast DDS's periodic announcement (the file says why).
 
-Call :func:`keep_dds_local` before the process's first ``rclpy.init``: Fast DDS reads both once, when
+Call :func:`keep_dds_local` before the process initialises rclpy: Fast DDS reads both once, when
 the first participant is created. Child processes inherit them through the environment.
 """
 
