@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every guard CI runs, in order of speed; the first failure stops the run with a non-zero exit.
 #   ruff (style and bugs), mypy (every package; strict on */core), import-linter (docs/architecture.md's dependency
-#   rules), then the test suite. Extra arguments are passed to pytest (e.g. -k amcl, -m "not slow").
+#   rules), vulture (dead code, pyproject.toml [tool.vulture]), then the test suite. Extra arguments are
+#   passed to pytest (e.g. -k amcl, -m "not slow").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${VENV:-.venv}
@@ -15,6 +16,8 @@ step "mypy"
 "$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools navsuite_data
 step "import-linter"
 "$VENV/bin/lint-imports"
+step "vulture (dead code)"
+"$VENV/bin/vulture"
 step "pytest"
 # The simulator runs in lockstep with the stack at --rtf max, so whole-stack tests take sim time,
 # not wall time, and no failed test is re-run: one that fails is a defect to find.
