@@ -322,7 +322,6 @@ def main(argv: list[str] | None = None) -> int:
     exit 0 complete, 3 max time, 1 map not saved, 130 interrupted."""
     from rclpy.parameter import Parameter
 
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.runtime.executor import add_executor_argument
     from ros_tools.runtime.runner import run_nodes
 

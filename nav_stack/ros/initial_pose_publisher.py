@@ -198,7 +198,6 @@ def main(argv: list[str] | None = None) -> int:
 
     ``[--executor events|single] [--ros-args ...]``. Not a lockstep participant: it only watches.
     """
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
 
     _, executor_kind, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
 

@@ -187,7 +187,6 @@ class MapSaver(NavLifecycleNode):
 def main(argv: list[str] | None = None) -> int:
     """Run the ``map_saver`` lifecycle node: ``[--autostart] [--executor events|single] [--ros-args ...]``
     (without ``--autostart`` a lifecycle manager configures it)."""
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
 
     autostart, executor, rclpy_args = split_runner_flags(sys.argv if argv is None else argv, __doc__)
     return run_nodes(lambda: [MapSaver()], role="map_saver", rclpy_args=rclpy_args, executor=executor,

@@ -22,7 +22,6 @@ def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None 
 
     ``role`` names the process in lockstep warnings (default: the program name).
     """
-    import nav_stack.ros  # noqa: F401 - sets the LOCALHOST discovery default
 
     args = list(sys.argv if argv is None else argv)
     module = sys.modules.get(getattr(build_nodes, "__module__", ""), None)

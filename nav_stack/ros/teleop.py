@@ -118,7 +118,6 @@ def main(argv: list[str] | None = None) -> int:
     from rclpy.node import Node
     from rclpy.parameter import Parameter
 
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.cmd_vel import CmdVelPublisher
     from ros_tools.runtime.runner import ros_process
 

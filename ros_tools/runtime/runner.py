@@ -36,6 +36,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
+from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument, make_executor
 
 if TYPE_CHECKING:
@@ -210,12 +211,15 @@ def ros_process(rclpy_args: Sequence[str] | None = None, *, context: Any = None,
             False for a library function inside a process whose signals belong to its caller.
 
     The flag is installed before ``rclpy.init`` and stays until the context is down, so a Ctrl-C
-    during start-up or teardown never surfaces as a KeyboardInterrupt in the middle of either.
+    during start-up or teardown never surfaces as a KeyboardInterrupt in the middle of either. The
+    suite's DDS defaults (ros_tools.dds.keep_dds_local) are applied first: every process the project
+    starts keeps discovery on this machine unless the user chose a range, and no import does it.
     """
     import rclpy
     from rclpy.signals import SignalHandlerOptions
     from rclpy.utilities import get_default_context
 
+    keep_dds_local()  # before the first participant: Fast DDS reads the settings once
     stop = StopOnSignal() if handle_signals else None
     try:
         rclpy.init(args=None if rclpy_args is None else list(rclpy_args), context=context,

@@ -12,10 +12,6 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from ros_tools.dds import keep_dds_local
-
-keep_dds_local()
-
 
 def main(argv: Sequence[str] | None = None) -> int:
     from smacc_py.core import InvalidDefinitionError, to_dot, to_mermaid

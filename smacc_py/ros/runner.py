@@ -24,10 +24,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.runner import StopOnSignal, ros_process
-
-keep_dds_local()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

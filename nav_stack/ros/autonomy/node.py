@@ -276,7 +276,6 @@ def _ros_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until ``max_cycles`` or Ctrl-C; exit 2 with one line on a configuration error."""
     args, executor_kind = _ros_args(sys.argv[1:] if argv is None else argv)
-    import nav_stack.ros  # noqa: F401 - LOCALHOST discovery default
     from ros_tools.runtime.runner import run_nodes
 
     def halt(executor: Any, nodes: Sequence[Any]) -> None:

@@ -13,10 +13,6 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from ros_tools.dds import keep_dds_local
-
-keep_dds_local()
-
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="smacc-key", description=__doc__.splitlines()[0])

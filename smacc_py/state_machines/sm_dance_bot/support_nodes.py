@@ -21,10 +21,6 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ros_tools.dds import keep_dds_local
-
-keep_dds_local()
-
 READY_LINE = "support nodes ready"
 LED_STATE_TOPIC = "/led_state"
 

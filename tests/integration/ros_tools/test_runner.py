@@ -116,6 +116,22 @@ def test_ros_process_for_a_library_leaves_the_signals_to_its_caller_and_shuts_it
     assert not context.ok()
 
 
+def test_ros_process_keeps_dds_on_this_machine_unless_the_user_chose(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 49: no import sets DDS defaults; the runner does, before rclpy starts, where unset."""
+    import os
+
+    from rclpy.context import Context
+
+    from ros_tools.runtime.runner import ros_process
+
+    monkeypatch.delenv("ROS_AUTOMATIC_DISCOVERY_RANGE", raising=False)
+    with ros_process([], context=Context(), handle_signals=False):
+        assert os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
+    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "OFF")  # the user's choice stays (OFF: no traffic)
+    with ros_process([], context=Context(), handle_signals=False):
+        assert os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "OFF"
+
+
 def test_a_signal_sets_the_flag_and_asks_the_caller_to_stop_without_raising() -> None:
     import os
 
