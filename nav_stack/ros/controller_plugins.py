@@ -121,8 +121,11 @@ def _mppi(node: Node, cid: str, footprint: Footprint, server: dict[str, Any]) ->
     values = declare_fields(node, MPPIParams, own, f"{cid}.") | {k: server[k] for k in MPPI_FROM_SERVER}
     params: MPPIParams = build(node, MPPIParams, values, cid)
     obstacle_critics = [name for name in params.critics if name in ("CostCritic", "ObstaclesCritic")]
-    layer_name = str(param(node, f"{cid}.{obstacle_critics[0]}.inflation_layer_name", "")) \
-        if obstacle_critics else ""
+    layer_name = ""
+    if obstacle_critics:  # read first: the chosen layer gives the critics' defaults below
+        critic_cls: Any = MPPI_CRITIC_PARAMS[obstacle_critics[0]]
+        layer_name = str(param(node, f"{cid}.{obstacle_critics[0]}.inflation_layer_name",
+                               critic_cls.inflation_layer_name))
     inflation = _inflation(node, layer_name)
     critics: dict[str, Any] = {}
     for name in params.critics:

@@ -5,12 +5,17 @@ A node declares every field as a ROS parameter (optionally under a prefix such a
 ``"FollowPath."``), so values come from a ``ros__parameters`` YAML file or ``--ros-args -p``, and
 builds the dataclass from the result. An invalid value fails with a message that names the node,
 the parameter and the value. ``on_dataclass_update`` lets a node take changes at run time.
+
+A Nav2 parameter the stack accepts (so a Nav2 file loads) but never reads is listed in its dataclass's
+``IGNORED`` class variable (field name -> why it has no effect); the binder says so once per node and
+dataclass, at startup, with the names and values (docs/nav2-differences.md lists them too).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import typing
+import weakref
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
@@ -20,6 +25,27 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 T = TypeVar("T")
+
+# (dataclass, prefix) pairs whose ignored parameters a node has already reported: one warning per
+# node and dataclass, not one per configure.
+_REPORTED: weakref.WeakKeyDictionary[Node, set[tuple[type, str]]] = weakref.WeakKeyDictionary()
+
+
+def ignored_parameters(cls: type) -> Mapping[str, str]:
+    """``cls.IGNORED``: the Nav2 parameters ``cls`` accepts and never reads, each with the reason."""
+    ignored: Mapping[str, str] = getattr(cls, "IGNORED", {})
+    return ignored
+
+
+def _report_ignored(node: Node, cls: type, prefix: str, values: Mapping[str, Any]) -> None:
+    """Warn once per node and dataclass that ``cls``'s ignored parameters have no effect."""
+    ignored = ignored_parameters(cls)
+    reported = _REPORTED.setdefault(node, set())
+    if not ignored or (cls, prefix) in reported:
+        return
+    reported.add((cls, prefix))
+    listed = "; ".join(f"{prefix}{name}={values[name]!r} ({why})" for name, why in ignored.items())
+    node.get_logger().warning(f"parameters accepted for Nav2 compatibility and not read: {listed}")
 
 
 def _ros_default(value: Any) -> Any:
@@ -80,12 +106,14 @@ def declare_dataclass(node: Node, cls: type[T], prefix: str = "", **overrides: A
                 node.declare_parameter(name, ros_default)
         values[field.name] = _coerce(node.get_parameter(name).value, hints.get(field.name, Any))
     try:
-        return cls(**values)
+        built = cls(**values)
     except (TypeError, ValueError) as error:
         shown = ", ".join(f"{prefix}{k}={v!r}" for k, v in values.items())
         raise ValueError(
             f"{node.get_name()}: invalid parameters for {cls.__name__}: {error} ({shown})"
         ) from error
+    _report_ignored(node, cls, prefix, values)
+    return built
 
 
 def on_dataclass_update(node: Node, cls: type[T], prefix: str, current: Callable[[], T],

@@ -138,7 +138,6 @@ class Recorder:
         self._pending: list[tuple[str, bytes]] = []
         self.counts: dict[str, int] = {}
         self.first_ns: int | None = None
-        self.last_ns: int | None = None
 
     def discover(self) -> None:
         """Subscribe to selected topics that appeared (with at least one publisher) since last time."""
@@ -184,7 +183,6 @@ class Recorder:
         self.counts[topic] += 1
         if self.first_ns is None:
             self.first_ns = now
-        self.last_ns = now
 
     @property
     def elapsed(self) -> float:

@@ -75,10 +75,6 @@ class BagWriter:
         self._channels[topic] = (channel_id, full_type)
         self._sequence[topic] = 0
 
-    def has_topic(self, topic: str) -> bool:
-        """Whether ``topic`` was added."""
-        return topic in self._channels
-
     def write(self, topic: str, data: bytes, log_time_ns: int, publish_time_ns: int | None = None) -> None:
         """Write one CDR-serialized message of an added topic.
 

@@ -101,7 +101,9 @@ class ViewerNode(Node):
             match = SMACC_TOPIC.match(topic)
             if match:
                 sm, kind = match["sm"] or "/", match["kind"]
-                handler = getattr(self, f"_on_smacc_{kind}")
+                handler = {"state_machine_description": self._on_smacc_state_machine_description,
+                           "status": self._on_smacc_status,
+                           "transition_log": self._on_smacc_transition_log}[kind]
                 self._try_subscribe(graph, topic, (SMACC_TYPES[kind],), functools.partial(handler, sm),
                                     depth=50 if kind == "transition_log" else 1)
 

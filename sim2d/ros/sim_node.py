@@ -133,7 +133,6 @@ class Sim2dNode(Node):
         self.sim: RobotSim = next(iter(robots.values()))
         self.robot = self.sim.robot
         self.paused = False
-        self.achieved_rtf = 0.0
         self._warned: set[tuple[str, str]] = set()   # (publisher node, type) warned about on a cmd_vel
         self._make_interfaces(robots)
         self._clock_period, self._clock_due = period_ns(cfg.node.clock_rate), 0
@@ -248,7 +247,6 @@ class Sim2dNode(Node):
         now_ns = self.world_sim.time_ns
         achieved = (now_ns - sim0) * 1e-9 / max(wall_now - wall0, 1e-9)
         self._rtf_window = (wall_now, now_ns)
-        self.achieved_rtf = achieved
         self.pub_rtf.publish(Float64(data=achieved))
         if wall_now - self._last_log >= self.config.node.rtf_log_period:
             self._last_log = wall_now

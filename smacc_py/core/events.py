@@ -238,7 +238,7 @@ class EvStateRequestFinish(_StateEvent):
 
 
 class EvSequenceFinished(_StateEvent):
-    """A sequence inside a state finished (``throw_sequence_finished_event``).
+    """A sequence inside a state finished (a state posts ``EvSequenceFinished[ThisState]``).
 
     SMACC2: ``smacc2::default_events::EvSequenceFinished``.
     """

@@ -46,8 +46,11 @@ class LifecycleHost(MachinePort, Protocol):
     def _observers(self) -> Sequence[object]:
         """The registered observers (only tested for emptiness here)."""
 
-    def _notify(self, method: str, arg: Any) -> None:
-        """Call ``method(sm, arg)`` on every observer."""
+    def _state_entered(self, state: SmaccState) -> None:
+        """Tell every observer ``state`` finished entering."""
+
+    def _state_exited(self, state: SmaccState) -> None:
+        """Tell every observer ``state`` finished exiting."""
 
 
 def _run_hooks(objects: list[Any], hook: str) -> None:
@@ -120,7 +123,7 @@ def enter_state(sm: LifecycleHost, cls: type[SmaccState]) -> SmaccState:
         _run_hooks(state.reactors, "on_entry")
         _run_hooks(state.generators, "on_entry")
     if sm._observers:
-        sm._notify("on_state_entered", state)
+        sm._state_entered(state)
     return state
 
 
@@ -146,4 +149,4 @@ def exit_state(sm: LifecycleHost, state: SmaccState) -> None:
     if state.reactors:
         sm._reactors = tuple(r for r in sm._reactors if r.state is not state)
     if sm._observers:
-        sm._notify("on_state_exited", state)
+        sm._state_exited(state)

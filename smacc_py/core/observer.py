@@ -18,6 +18,7 @@ argument as ``SmaccStateMachineBase`` without breaking the override rules.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -94,7 +95,18 @@ class ObserverRegistry:
         """Unregister an observer."""
         self._observers = tuple(o for o in self._observers if o is not observer)
 
-    def _notify(self, method: str, arg: Any) -> None:
+    def _state_entered(self, state: SmaccState) -> None:
+        """Observers' ``on_state_entered`` (the state lifecycle calls it; it cannot import this module)."""
+        self._notify(SmaccObserver.on_state_entered, state)
+
+    def _state_exited(self, state: SmaccState) -> None:
+        """Observers' ``on_state_exited``."""
+        self._notify(SmaccObserver.on_state_exited, state)
+
+    def _notify(self, hook: Callable[..., None], arg: Any) -> None:
+        """Call ``hook`` (a ``SmaccObserver`` method: a misspelt one fails at import, not silently)
+        as overridden by each observer, with ``(sm, arg)``."""
+        method = hook.__name__
         for observer in self._observers:
             try:
                 getattr(observer, method)(self, arg)

@@ -176,7 +176,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
                         _log.exception("%s.on_event_notified raised; skipped", type(reactor).__name__)
             self._queue.append((event, owner_seq))
         if self._observers:
-            self._notify("on_event_posted", event)
+            self._notify(SmaccObserver.on_event_posted, event)
         if self._wake_needed:
             self._wake.set()
         wake = self._wake_callback
@@ -266,7 +266,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
             else:
                 _log.debug("%s: unhandled event %r in %s", self.name, event, self._leaf_name())
                 if self._observers:
-                    self._notify("on_event_unhandled", event)
+                    self._notify(SmaccObserver.on_event_unhandled, event)
         return count
 
     # ------------------------------------------------------------------ transitions
@@ -284,7 +284,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
                                   event, plan.history, self._now())
         self.transition_log.append(record)
         if self._observers:
-            self._notify("on_transition", record)
+            self._notify(SmaccObserver.on_transition, record)
         self._exit_to(plan.keep_depth)
         self._enter_path(path)
 
@@ -342,7 +342,7 @@ class SmaccStateMachineBase(MachineAssembly, StateMachineQueries, ObserverRegist
     def _dropped(self, event: SmaccEvent) -> None:
         _log.debug("%s: dropped %r: the state that posted it has exited", self.name, event)
         if self._observers:
-            self._notify("on_event_dropped", event)
+            self._notify(SmaccObserver.on_event_dropped, event)
 
     # ------------------------------------------------------------------ blackboard
     def set_global_sm_data(self, name: str, value: Any) -> None:

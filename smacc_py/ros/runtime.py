@@ -163,10 +163,6 @@ class SmaccRuntime:
         return (self._start_requested_at is not None
                 and time.monotonic() - self._built_at >= DISCOVERY_SETTLE_S)
 
-    def is_started(self) -> bool:
-        """True once the machine has entered its initial state."""
-        return self.started_at_s is not None
-
     def _enter_initial_state(self) -> None:
         if self._stopping:
             return

@@ -82,11 +82,6 @@ class Blackboard:
         board, real_key = self._owner(key)
         board._storage[real_key] = value
 
-    def unset(self, key: str) -> None:
-        """Remove ``key`` if present."""
-        board, real_key = self._owner(key)
-        board._storage.pop(real_key, None)
-
     def __contains__(self, key: object) -> bool:
         if not isinstance(key, str):
             return False

@@ -119,11 +119,6 @@ class BehaviorTreeFactory:
         """The registration of ``node_id``, or None."""
         return self._registry.get(node_id)
 
-    @property
-    def registered_ids(self) -> list[str]:
-        """All registered ids, sorted."""
-        return sorted(self._registry)
-
     def create_tree_from_text(self, text: str, *, source: str = "<string>", main_tree_id: str | None = None,
                               blackboard: Blackboard | None = None, clock: Callable[[], float] | None = None,
                               selection_source: SelectionSource | None = None) -> Tree:

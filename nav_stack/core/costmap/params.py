@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import ClassVar
 
 Point2 = tuple[float, float]
 
@@ -81,6 +82,11 @@ class CostmapParams:
 @dataclass(frozen=True)
 class StaticLayerParams:
     """nav2_costmap_2d::StaticLayer (``static_layer``)."""
+
+    # Accepted so a Nav2 file loads, never read (nav_stack.ros.params warns at startup).
+    IGNORED: ClassVar[dict[str, str]] = {
+        "subscribe_to_updates": "map_updates is not subscribed; a new /map replaces the whole map",
+    }
 
     enabled: bool = True
     use_maximum: bool = False

@@ -65,13 +65,12 @@ class Frontier:
     Attributes:
         cells: (K, 2) cell indices ``(mx, my)``.
         size: length (m) as explore_lite measures it: number of cells × resolution.
-        centroid: mean of the cell centres (m).
-        middle: centre (m) of the cluster cell nearest the centroid (on the frontier even when it bends).
+        middle: centre (m) of the cluster cell nearest the mean of the cell centres (on the frontier even
+            when it bends).
     """
 
     cells: IntArray
     size: float
-    centroid: tuple[float, float]
     middle: tuple[float, float]
 
 
@@ -90,7 +89,7 @@ def find_frontiers(
         xs, ys = spec.cell_to_world(mx, my)
         cx, cy = float(xs.mean()), float(ys.mean())
         k = int(np.argmin((xs - cx) ** 2 + (ys - cy) ** 2))
-        out.append(Frontier(np.column_stack((mx, my)), size, (cx, cy), (float(xs[k]), float(ys[k]))))
+        out.append(Frontier(np.column_stack((mx, my)), size, (float(xs[k]), float(ys[k]))))
     return out
 
 

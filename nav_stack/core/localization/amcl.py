@@ -55,7 +55,6 @@ class UpdateResult:
 
     updated: bool
     resampled: bool = False
-    particle_count: int = 0
 
 
 def map_to_odom(map_to_base: Pose2D, odom_to_base: Pose2D) -> Pose2D:
@@ -100,7 +99,6 @@ class Amcl:
         self.particles: FloatArray = np.zeros((0, 3))
         self.weights: FloatArray = np.zeros(0)
         self.fit = FitAverages(params.recovery_alpha_slow, params.recovery_alpha_fast)
-        self.last_gamma = 1.0  # tempering exponent of the last laser update (see weighting.py)
         self.last_beams: Beams | None = None  # the beams the last laser update weighed the particles with
         self.last_scan_weights: ScanWeights | None = None  # likelihood_field_prob: what beam skipping did
         self.converged = False
@@ -199,7 +197,7 @@ class Amcl:
         resampled = self._resample_count % self.params.resample_interval == 0
         if resampled:
             self._resample()
-        return UpdateResult(True, resampled, int(self.particles.shape[0]))
+        return UpdateResult(True, resampled)
 
     def _sensor_update(self, scan: LaserScan, laser_pose: Pose2D) -> None:
         beams = select_beams(scan, laser_pose, self.params, keep_max=self.params.laser_model_type == BEAM)
@@ -212,7 +210,7 @@ class Amcl:
         else:
             log_l, integrated = self.model.log_likelihood(self.particles, beams), beams.ranges.size
         self.fit.add(FitAverages.scan_fit(self.weights, log_l, integrated))
-        self.weights, self.last_gamma = reweight(self.weights, log_l, self.params.min_ess_ratio)
+        self.weights, _gamma = reweight(self.weights, log_l, self.params.min_ess_ratio)
 
     def _resample(self) -> None:
         p = self.params

@@ -18,8 +18,8 @@ hysteresis: DEGRADED after ``bad_updates_to_degrade`` consecutive bad updates, O
 update_min_a = 0.2 rad of motion, so 5 updates are about 1.25 m of travel).
 
 Default thresholds, measured with the core filter, Nav2's alphas and a 360-beam 3.5 m lidar
-(tests/helpers/nav_fake_lidar, 0.01 m noise): driving turtlebot3_world, 52–57 of 60 beams return,
-100 % of them within 0.2 m of a wall, position σ 0.09–0.20 m and yaw σ 0.06–0.23 rad; crossing
+(navsuite_testing/nav/fake_lidar.py, 0.01 m noise): driving turtlebot3_world, 52–57 of 60 beams
+return, 100 % of them within 0.2 m of a wall, position σ 0.09–0.20 m and yaw σ 0.06–0.23 rad; crossing
 the depot_large hall, 0–15 of 60 return and the cloud spreads past 0.3 m (true error 0.23 m)
 before it is lost for good (σ 1–6 m, error 0.5–8 m).
 """

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from typing import ClassVar
 
 DIFFERENTIAL = "nav2_amcl::DifferentialMotionModel"
 OMNI = "nav2_amcl::OmniMotionModel"
@@ -25,6 +26,12 @@ LASER_MODELS = (LIKELIHOOD_FIELD, LIKELIHOOD_FIELD_PROB, BEAM)
 @dataclass(frozen=True)
 class AmclParams:
     """Every nav2_amcl parameter the core or the node uses."""
+
+    # Accepted so a Nav2 file loads, never read (nav_stack.ros.params warns at startup).
+    IGNORED: ClassVar[dict[str, str]] = {
+        "save_pose_rate": "the estimate is not stored for the next run; set_initial_pose starts it",
+        "initial_pose_z": "the filter is planar: a pose has no height",
+    }
 
     alpha1: float = 0.2
     alpha2: float = 0.2

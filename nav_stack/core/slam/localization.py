@@ -49,7 +49,6 @@ class GraphLocalizer(GridSlam):
         self._recent: deque[tuple[FloatArray, FloatArray]] = deque(maxlen=self.params.scan_buffer_size)
         self._last_odom: Pose2D | None = None
         self.localized_scans = 0  # processed scans whose match was accepted
-        self.unmatched_scans = 0  # processed scans that kept the odometry prediction
 
     def restart_at(self, pose: Pose2D) -> None:
         """Localize from ``pose`` (map frame) on the next scan; forget the rolling buffer."""
@@ -78,8 +77,6 @@ class GraphLocalizer(GridSlam):
         if result is not None and result.response >= _MIN_RESPONSE:
             pose, response = result.pose, result.response
             self.localized_scans += 1
-        else:
-            self.unmatched_scans += 1
         self._restart, self._last_odom, self._stamp = None, odom_pose, stamp
         self._map_to_odom = compose(pose, inverse(odom_pose))
         joined = joined_returns(points.hits, p.refine_resolution)

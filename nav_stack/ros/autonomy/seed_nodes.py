@@ -35,9 +35,6 @@ from nav_stack.core.bt import (
 from nav_stack.ros.autonomy.battery import BatterySource, RechargeState
 from nav_stack.ros.autonomy.locations import Location
 
-SEED_NODE_IDS = ("GoToPose", "IsBatteryLow", "DecrementBattery", "CheckBattery", "RechargeBattery",
-                 "WaitSeconds")
-
 
 class NavOutcome(enum.Enum):
     """How a NavigateToPose goal ended."""

@@ -97,7 +97,6 @@ class Navigator:
 
     action_type: ClassVar[Any] = None
     action_name: ClassVar[str] = ""
-    default_tree_param: ClassVar[str] = ""
     default_tree_file: ClassVar[str] = ""
 
     def __init__(self, default_tree: str, path_key: str = "path") -> None:
@@ -175,7 +174,6 @@ class NavigateToPoseNavigator(Navigator):
 
     action_type = NavigateToPose
     action_name = "navigate_to_pose"
-    default_tree_param = "default_nav_to_pose_bt_xml"
     default_tree_file = "navigate_to_pose_w_replanning_and_recovery.xml"
 
     def __init__(self, default_tree: str, path_key: str = "path", goal_key: str = "goal") -> None:
@@ -191,7 +189,6 @@ class NavigateThroughPosesNavigator(Navigator):
 
     action_type = NavigateThroughPoses
     action_name = "navigate_through_poses"
-    default_tree_param = "default_nav_through_poses_bt_xml"
     default_tree_file = "navigate_through_poses_w_replanning_and_recovery.xml"
 
     def __init__(self, default_tree: str, path_key: str = "path", goals_key: str = "goals") -> None:

@@ -28,7 +28,6 @@ class CpPose(ISmaccComponent, ISmaccUpdatable):
         self.reference_frame = reference_frame.lstrip("/")
         self._lock = threading.Lock()
         self._pose: Pose2D | None = None
-        self._stamp_s = 0.0
         self.last_error = ""
 
     def on_initialize(self) -> None:
@@ -46,7 +45,7 @@ class CpPose(ISmaccComponent, ISmaccUpdatable):
             return None
         pose = (transform.x, transform.y, transform.yaw)
         with self._lock:
-            self._pose, self._stamp_s = pose, self.sm.now()
+            self._pose = pose
         return pose
 
     @property

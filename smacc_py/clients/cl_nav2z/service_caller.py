@@ -55,11 +55,6 @@ class ServiceCaller(ISmaccComponent, ISmaccUpdatable):
         call.start(0.0)  # deadlines count from 0: update() polls with the time elapsed on both clocks
         return call
 
-    def pending_calls(self) -> list[ServiceCall]:
-        """Calls neither answered, failed nor abandoned."""
-        with self._calls_lock:
-            return [call for call, _, _ in self._calls if not call.done]
-
     def update(self) -> None:
         """Send calls whose server appeared; fail those whose deadline passed on both clocks."""
         with self._calls_lock:

@@ -74,8 +74,3 @@ class CpServiceClient(ISmaccComponent, ISmaccUpdatable):
         now = self.sm.now()
         for call in calls:
             call.poll(now)
-
-    def pending_calls(self) -> list[ServiceCall]:
-        """Calls neither answered, failed nor abandoned."""
-        with self._lock:
-            return [c for c in self._calls if not c.done]

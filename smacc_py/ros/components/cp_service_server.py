@@ -39,7 +39,6 @@ class CpServiceServer(ISmaccComponent):
             raise TypeError(f"{label}: handler must be callable(request, response) -> response, got "
                             f"{handler!r}")
         self.handler = handler
-        self.request_count = 0
         self._service: Any = None
 
     def on_initialize(self) -> None:
@@ -48,7 +47,6 @@ class CpServiceServer(ISmaccComponent):
 
     def serve(self, request: Any, response: Any) -> Any:
         """Answer one request (the service callback): run the handler, post the event, return."""
-        self.request_count += 1
         error: dict[str, str] = {}
         try:
             answer = self.handler(request, response)

@@ -21,18 +21,13 @@ from smacc_py.ros.context import ros_context
 
 
 class CpTopicPublisher(ISmaccComponent):
-    """Publishes ``msg_type`` messages on ``topic`` (``qos``: a QoSProfile or a depth).
-
-    Attributes:
-        published_count: messages published so far.
-    """
+    """Publishes ``msg_type`` messages on ``topic`` (``qos``: a QoSProfile or a depth)."""
 
     def __init__(self, msg_type: Any, topic: str, qos: QosArg = DEFAULT_QOS_DEPTH) -> None:
         self.label = f"CpTopicPublisher({topic!r})"
         self.msg_type = check_message_type(self.label, msg_type)
         self.topic = check_name(self.label, "topic", topic)
         self.qos = check_qos(self.label, qos)
-        self.published_count = 0
         self._publisher: Any = None
 
     def on_initialize(self) -> None:
@@ -45,8 +40,3 @@ class CpTopicPublisher(ISmaccComponent):
         if self._publisher is None:
             raise SmaccError(f"{self.label}: publish() before the machine was initialized")
         self._publisher.publish(msg)
-        self.published_count += 1
-
-    def subscription_count(self) -> int:
-        """Subscriptions matched to the publisher (0 before the machine started)."""
-        return 0 if self._publisher is None else int(self._publisher.get_subscription_count())

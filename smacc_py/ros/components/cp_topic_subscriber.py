@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from smacc_py.core import EvTopicInitialMessage, EvTopicMessage, ISmaccComponent, SmaccError
+from smacc_py.core import EvTopicInitialMessage, EvTopicMessage, ISmaccComponent
 from smacc_py.ros.components.checks import (
     DEFAULT_QOS_DEPTH,
     QosArg,
@@ -29,7 +29,6 @@ class CpTopicSubscriber(ISmaccComponent):
 
     Attributes:
         last_message: the latest message, None before the first.
-        last_message_s: machine-clock time (s) the latest message arrived, None before the first.
         message_count: messages received so far.
     """
 
@@ -39,7 +38,6 @@ class CpTopicSubscriber(ISmaccComponent):
         self.topic = check_name(owner, "topic", topic)
         self.qos = check_qos(owner, qos)
         self.last_message: Any = None
-        self.last_message_s: float | None = None
         self.message_count = 0
         self.message_received: SmaccSignal[Any] = SmaccSignal(f"{owner}.message_received")
         self.first_message_received: SmaccSignal[Any] = SmaccSignal(f"{owner}.first_message_received")
@@ -61,15 +59,9 @@ class CpTopicSubscriber(ISmaccComponent):
         """Take one message (the subscription's callback, on the executor thread): events, then listeners."""
         first = self.message_count == 0
         self.message_count += 1
-        self.last_message, self.last_message_s = msg, self.sm.now()
+        self.last_message = msg
         if first:
             self.post_event(self.owner.own_event(EvTopicInitialMessage)(msg=msg, topic=self.topic))
             self.first_message_received.emit(msg)
         self.post_event(self.owner.own_event(EvTopicMessage)(msg=msg, topic=self.topic))
         self.message_received.emit(msg)
-
-    def publisher_count(self) -> int:
-        """Publishers matched to the subscription (0 before the machine started)."""
-        if self._subscription is None:
-            raise SmaccError(f"CpTopicSubscriber({self.topic!r}) is not initialized yet")
-        return int(self._subscription.get_publisher_count())

@@ -4,13 +4,12 @@ OrSubscriber (upstream's ``sm_three_some.hpp``), and the transitions it takes wi
 from __future__ import annotations
 
 from smacc_py.core import SmaccStateMachineBase
-from smacc_py.state_machines.sm_three_some import mode_states, states, superstates
+
+# Imported for their effect, declaring the states: each names its parent by name, so none imports this one.
+from smacc_py.state_machines.sm_three_some import mode_states, states, superstates  # noqa: F401
 from smacc_py.state_machines.sm_three_some.events import EvFail, EvToDeep
 from smacc_py.state_machines.sm_three_some.orthogonals import OrKeyboard, OrSubscriber, OrTimer
 from smacc_py.state_machines.sm_three_some.orthogonals.or_timer import TICK_S
-
-#: The modules declaring the states (each names its parent by name, so none imports this one).
-STATE_MODULES = (mode_states, states, superstates)
 
 LOOP_ITERATIONS = 5  # Ss1/Ss2 ``total_iterations()``
 
