@@ -31,7 +31,7 @@ from nav_stack.core.localization.likelihood_field_prob import LikelihoodFieldPro
 from nav_stack.core.localization.params import LASER_MODELS, LIKELIHOOD_FIELD, LIKELIHOOD_FIELD_PROB
 from nav_stack.core.localization.sensor_model import Beams, select_beams
 from nav_stack.core.map_io import load_map
-from tests.helpers.nav_fake_lidar import fake_scan
+from navsuite_testing.nav.fake_lidar import fake_scan
 
 MAP = Path(__file__).resolve().parents[1] / "maps" / "turtlebot3_world.yaml"
 

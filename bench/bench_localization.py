@@ -1,6 +1,6 @@
 """Localization quality of the amcl node against sim2d ground truth on the scripted turtlebot3_world tour.
 
-Three runs (tests/helpers/nav_ros_loc_tour.py: sim2d with drifting odometry, in lockstep at --rtf max,
+Three runs (navsuite_testing/localization/tour.py: sim2d with drifting odometry, in lockstep at --rtf max,
 map_server + amcl + lifecycle_manager_localization as child processes, ground-truth waypoint driver):
   tracking  from the seed's initial pose (-2.0, -0.5, 0): RMS position / yaw error of every amcl_pose;
   global    reinitialize_global_localization, no initial pose: distance driven until the error stays
@@ -26,7 +26,7 @@ import rclpy
 from rclpy.context import Context
 
 from bench.harness import Benchmark, parse_cli
-from tests.helpers.nav_ros_loc_tour import CONVERGED, RECOVERY, TourResult, TourRun
+from navsuite_testing.localization.tour import CONVERGED, RECOVERY, TourResult, TourRun
 
 
 def _run(**kwargs: object) -> TourResult:

@@ -53,8 +53,6 @@ def scenario() -> tuple[Pose2D, Twist2D, np.ndarray, CostGrid]:
     return Pose2D(0.0, 0.05, 0.1), Twist2D(0.2, 0.1), path[: int(np.argmin(inside))], grid
 
 
-Clock = Callable[[], int]
-CLOCKS: dict[str, Clock] = {"wall": time.perf_counter_ns, "cpu": time.thread_time_ns}
 
 
 def samples(fn: Callable[[], object], repeat: int, warmup: int) -> dict[str, list[float]]:

@@ -27,7 +27,7 @@ TREE = REPO / "config" / "trees" / "seed_battery_patrol_v3.xml"
 
 
 def bench_tick(bench: Benchmark) -> None:
-    from tests.helpers.autonomy_fakes import FakeNavigator
+    from navsuite_testing.autonomy.fakes import FakeNavigator
 
     locations = load_locations(REPO / "config" / "locations.yaml")
     ctx = SeedContext(FakeNavigator(travel_ticks=2), CounterBattery(), locations)
@@ -46,7 +46,7 @@ def bench_tick(bench: Benchmark) -> None:
 
 
 def bench_cycle(bench: Benchmark, rtf: str, repeat: int) -> None:
-    from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, stack_available, start_stack
+    from navsuite_testing.autonomy.system import run_autonomy, set_initial_pose, stack_available, start_stack
 
     if not stack_available():
         print("bench_patrol: nav_stack.ros.bringup does not exist: skipping the simulator cycle", flush=True)

@@ -116,7 +116,7 @@ def bench_node(bench: Benchmark, listeners: bool, samples: int = 8) -> None:
     from std_msgs.msg import Float64
     from tf2_msgs.msg import TFMessage
 
-    from tests.helpers.ros import spin_until, start_python, stop_process
+    from navsuite_testing.ros import spin_until, start_python, stop_process
 
     context = Context()
     rclpy.init(context=context)

@@ -1,7 +1,7 @@
 """Grid SLAM and frontier exploration: time per processed scan, and the quality of synthetic exploration.
 
 Target (issue 20): ≤ 15 ms median per processed scan (360 beams). The scenario explores the
-TB3-like hexagon room (tests/helpers/slam_world.py: exact analytic lidar, σ 0.01 m noise,
+TB3-like hexagon room (navsuite_testing/slam/world.py: exact analytic lidar, σ 0.01 m noise,
 drifting odometry), teleporting the robot along ground-truth paths to each goal the explorer
 picks, and reports the SLAM time per processed scan, the explorer time per goal, the online pose
 error (max and median over every scan), the occupied-cell IoU (one-cell tolerance) of the final
@@ -30,7 +30,7 @@ from nav_stack.core.exploration import ExplorationStatus, Explorer
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import GridSlam, SlamParams
-from tests.helpers.slam_world import (
+from navsuite_testing.slam.world import (
     NoisyOdometry,
     World,
     hexagon_world,

@@ -1,11 +1,11 @@
 """SLAM on the ROS graph: time per processed scan inside the slam node, and a whole exploration run.
 
 1. Node timing: the slam node in this process, fed by the fake robot of
-   tests/helpers/nav_ros_slam_fakes.py (analytic hexagon room, 360 beams), waiting for each scan's
+   navsuite_testing/slam/fakes.py (analytic hexagon room, 360 beams), waiting for each scan's
    slam/pose; the node records the wall time of every processed scan (``SlamNode.process_times``).
 2. Exploration: sim2d (``--rtf``, default 1: what the stack sustains on 2 cores; drifting odometry)
    + the ``nav-bringup --slam`` processes + the Nav2 servers, and ``nav-explore -f`` from the seeds'
-   spawn until complete (tests/helpers/nav_ros_slam_stack.py).
+   spawn until complete (navsuite_testing/slam/stack.py).
    Recorded: occupied-cell IoU with the observable walls of maps/turtlebot3_world.yaml (one-cell
    tolerance), SLAM pose error against ground truth (median and max), goals, duration (sim s, wall s).
 
@@ -32,8 +32,12 @@ from rclpy.parameter import Parameter
 from bench.harness import Benchmark, Stats
 from nav_stack.ros.slam_bringup import slam_processes
 from nav_stack.ros.slam_node import SlamNode
-from tests.helpers.nav_ros_slam_fakes import START, FakeRobot, tour
-from tests.helpers.nav_ros_slam_stack import (
+from navsuite_testing.nav.world import Harness
+from navsuite_testing.ros import release_dds_participants
+from navsuite_testing.slam.fakes import START, FakeRobot, tour
+from navsuite_testing.slam.node_probe import Probe as NodeProbe
+from navsuite_testing.slam.node_probe import drive
+from navsuite_testing.slam.stack import (
     PARAMS_FILE,
     Stack,
     compare_with_reference,
@@ -42,22 +46,19 @@ from tests.helpers.nav_ros_slam_stack import (
     progress_numbers,
     sim_spec,
 )
-from tests.helpers.nav_ros_world import Harness
-from tests.helpers.ros import release_dds_participants
+from navsuite_testing.slam.system_probe import Probe as SystemProbe
 
 
 def node_timing(bench: Benchmark) -> None:
-    from tests.integration.nav_stack.test_slam_node import Probe, drive
-
     context = Context()
     rclpy.init(context=context)
-    harness = Harness(context, threads=4)
+    harness = Harness(context)
     try:
         slam = SlamNode(context=context, parameter_overrides=[Parameter("map_start_pose", value=list(START))])
-        robot, probe = FakeRobot(context=context), Probe(context=context)
+        robot, probe = FakeRobot(context=context), NodeProbe(context=context)
         harness.add(slam, robot, probe)
         harness.bring_up(slam)
-        drive(robot, probe, tour(robot.world))
+        drive(robot, probe, tour(robot.world), slam)
         stats = Stats.of(slam.process_times)
         bench.record("node: SLAM time per processed scan (360 beams, worker thread)", stats, "ms", 1e3,
                      note=f"hexagon room tour, {stats.count} scans processed")
@@ -68,11 +69,9 @@ def node_timing(bench: Benchmark) -> None:
 
 
 def exploration(bench: Benchmark, rtf: float) -> None:
-    from tests.system.test_slam_exploration import Probe
-
     context = Context()
     rclpy.init(context=context)
-    probe = Probe(context)
+    probe = SystemProbe(context)
     directory = Path(tempfile.mkdtemp(prefix="bench_slam_"))
     stack = Stack([sim_spec(rtf), *slam_processes(PARAMS_FILE), *nav_specs()])
     try:

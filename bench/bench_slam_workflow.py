@@ -6,7 +6,7 @@ What a user does (README, SLAM section), timed and scored:
    ``nav-explore -f DIR/map --max-time T`` until exploration is complete: sim and wall time,
    goals, mapped area (nav-explore's last progress line);
 2. the saved map's occupied cells against the walls of maps/W.yaml that a lidar can see from the
-   world's first spawn (IoU with a one-cell tolerance, tests/helpers/nav_ros_slam_stack.py);
+   world's first spawn (IoU with a one-cell tolerance, navsuite_testing/slam/stack.py);
 3. the slam node's wall time per processed scan callback, from the summaries it logs every 100
    scans (median of their medians, and the overall max): a callback over the lifecycle manager's
    bond timeout (4 s) gets the node reset and its map lost, which is why this is watched;
@@ -32,8 +32,8 @@ import time
 from pathlib import Path
 
 from bench.harness import Benchmark, Stats, claim_domain_id
+from navsuite_testing.slam.stack import compare_with_reference, progress_numbers
 from sim2d.core.world import load_world
-from tests.helpers.nav_ros_slam_stack import compare_with_reference, progress_numbers
 
 REPO = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent

@@ -139,7 +139,7 @@ def _release_dds_participants() -> Iterator[None]:
     it left behind (see the module doc)."""
     yield
     if _shutdowns[0]:
-        from tests.helpers.ros import release_dds_participants
+        from navsuite_testing.ros import release_dds_participants
 
         _shutdowns[0] = 0
         release_dds_participants()

@@ -26,10 +26,10 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 
+from navsuite_testing.ros import start_python, stop_process
 from ros_tools.bag.qos import parse_offered_qos, request_for_offers
 from ros_tools.bag.reader import BagReader
 from ros_tools.types import import_type
-from tests.helpers.ros import start_python, stop_process
 
 BAG_CLI = "ros_tools.bag.main"
 #: History depth of the counting subscriptions: a burst from a player catching up must not

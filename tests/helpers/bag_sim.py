@@ -22,8 +22,8 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from navsuite_testing.ros import BackgroundSpin, start_python, stop_process, wait_until
 from tests.helpers.bag_replay import BAG_CLI
-from tests.helpers.ros import BackgroundSpin, start_python, stop_process, wait_until
 
 #: Sim seconds to record; with --rtf 5 that is under a second of wall time.
 RECORD_SECONDS = 3.0

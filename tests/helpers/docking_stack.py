@@ -18,11 +18,11 @@ from rclpy.parameter import Parameter
 
 from nav_stack.core.geometry import Pose2D
 from nav_stack.ros.docking_server import DockingServer, build_nodes
+from navsuite_testing.nav.world import Harness, get_result, send_goal
+from navsuite_testing.ros import REPO, wait_until
 from ros_tools.runtime.actions import ActionClient
 from tests.helpers.docking_robot import FakeDockingRobot
 from tests.helpers.docking_world import JAZZY_DOCK
-from tests.helpers.nav_ros_world import Harness, get_result, send_goal
-from tests.helpers.ros import REPO, wait_until
 
 MAP_TO_ODOM = Pose2D(1.0, 0.5, 0.0)
 DOCK_IN_ODOM = Pose2D(1.0, 0.0, 0.0)

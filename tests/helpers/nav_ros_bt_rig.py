@@ -11,11 +11,11 @@ from typing import Any
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from navsuite_testing.ros import wait_until
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.runner import spin_until_shutdown
 from tests.helpers.nav_ros_bt_fakes import FakeNav2
-from tests.helpers.ros import wait_until
 
 #: Python on a loaded machine needs more than Nav2's 20 ms to acknowledge a goal and 1 s for discovery.
 NAVIGATOR_OVERRIDES = [Parameter("default_server_timeout", value=2000),

@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from tests.helpers.ros import REPO, SYSTEM_RTF, wait_until
+from navsuite_testing.ros import REPO, SYSTEM_RTF, wait_until
 
 READY = "Nav2 is ready"
 
@@ -85,5 +85,5 @@ def yaw_of(q: Any) -> float:
 
 
 def wait(predicate: Callable[[], bool], timeout: float, what: str) -> None:
-    """Poll ``predicate()`` until true; fail after ``timeout`` s (tests.helpers.ros.wait_until)."""
+    """Poll ``predicate()`` until true; fail after ``timeout`` s (navsuite_testing.ros.wait_until)."""
     wait_until(predicate, timeout, what, step=0.05)

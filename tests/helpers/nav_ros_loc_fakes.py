@@ -1,7 +1,7 @@
 """A fake robot for amcl node tests: /map, static base_footprint→base_scan, odom TF and scans at 10 Hz.
 
 The robot stands still at ``pose`` (map frame) with odom = map, so AMCL's map→odom should come out
-as the identity. Scans are cast in the map by tests/helpers/nav_fake_lidar (not by nav_stack), with
+as the identity. Scans are cast in the map by navsuite_testing.nav.fake_lidar (not by nav_stack), with
 a few REP 117 readings (+inf no return, -inf too close) mixed in.
 """
 
@@ -16,10 +16,10 @@ from sensor_msgs.msg import LaserScan
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.localization.nodes import MAP_YAML
+from navsuite_testing.nav.fake_lidar import cast_ranges
 from ros_tools.tf.ros import StaticTransformBroadcaster, TransformBroadcaster, transform_to_msg
 from ros_tools.tf.transform import Transform
-from tests.helpers.nav_fake_lidar import cast_ranges
-from tests.helpers.nav_ros_loc_nodes import MAP_YAML
 
 LASER_OFFSET = (-0.064, 0.0)  # m, TB3 waffle base_footprint → base_scan
 BEAMS = 360

@@ -4,7 +4,7 @@ Shared by tests/integration/nav_stack/test_slam_node_sim.py and bench/bench_slam
 (default drifting odometry) and the slam node (``--autostart``, the project's ``slam`` parameters)
 run as child processes, as a deployment would; only the driver and the probe run in this process.
 The driver closes a go-to-waypoint loop on sim2d's ground truth over TOUR (the collision-free route
-between the pillars of tests/helpers/nav_ros_loc_tour.py): it is scaffolding, not the thing under test.
+between the pillars of navsuite_testing/localization/tour.py): it is scaffolding, not the thing under test.
 Every ``slam/pose`` is compared with the ground truth at its stamp; every /map is kept.
 """
 
@@ -25,9 +25,9 @@ from rclpy.node import Node
 from std_msgs.msg import UInt32
 
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.localization.tour import MAX_V, MAX_W, START, TOUR
+from navsuite_testing.ros import REPO, connected, spin_until, start_python, stop_process
 from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.nav_ros_loc_tour import MAX_V, MAX_W, START, TOUR
-from tests.helpers.ros import REPO, connected, spin_until, start_python, stop_process
 
 PARAMS_FILE = REPO / "config" / "nav2_params.yaml"
 #: m: what the slam node's pose error (slam/pose against ground truth) must stay within on a

@@ -14,7 +14,7 @@ from typing import Any
 
 import yaml
 
-from tests.helpers.ros import start_python
+from navsuite_testing.ros import start_python
 
 CLI = "ros_tools.cli.main"
 #: Generous bounds for a loaded 2-core machine; a passing run is much faster.

@@ -13,7 +13,7 @@ import urllib.request
 from collections.abc import Callable
 from typing import Any
 
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
 
 
 def get(url: str, timeout: float = 10.0) -> tuple[int, str, str]:

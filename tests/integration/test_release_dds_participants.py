@@ -11,7 +11,7 @@ pytest.importorskip("nav2_msgs.action")
 from nav2_msgs.action import NavigateToPose
 from rclpy.action import ActionClient, ActionServer
 
-from tests.helpers.ros import release_dds_participants
+from navsuite_testing.ros import release_dds_participants
 from tests.helpers.ros_cli import run_cli
 
 pytestmark = pytest.mark.ros

@@ -24,10 +24,10 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 
 from nav_stack.ros.conversions import pose_stamped
+from navsuite_testing.ros import BackgroundSpin
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import BackgroundSpin
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 PROGRESS_CHECKER_PERIOD = 10.0  # s of sim time: movement_time_allowance in config/nav2_params.yaml

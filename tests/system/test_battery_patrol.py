@@ -20,8 +20,8 @@ import pytest
 
 pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
 
-from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, start_stack
-from tests.helpers.ros import REPO, SYSTEM_RTF
+from navsuite_testing.autonomy.system import run_autonomy, set_initial_pose, start_stack
+from navsuite_testing.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

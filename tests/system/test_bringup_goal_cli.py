@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from nav_stack.ros.goal_cli import load_waypoints
-from tests.helpers.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
+from navsuite_testing.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 
 def test_example_waypoints_load():

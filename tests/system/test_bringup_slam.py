@@ -7,8 +7,8 @@ import math
 
 import pytest
 
+from navsuite_testing.ros import spin_until, spinning
 from tests.helpers.nav_ros_bt_stack import READY, Bringup
-from tests.helpers.ros import spin_until, spinning
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
+from navsuite_testing.ros import REPO, spin_until, spinning, start_python, stop_process
 from tests.helpers.nav2_echo_server import ACTION_NAME
-from tests.helpers.ros import REPO, spin_until, spinning, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 

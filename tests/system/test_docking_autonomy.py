@@ -34,8 +34,8 @@ from rclpy.node import Node
 from sensor_msgs.msg import BatteryState
 from std_msgs.msg import UInt32
 
-from tests.helpers.autonomy_system import run_autonomy, set_initial_pose, start_stack
-from tests.helpers.ros import REPO, SYSTEM_RTF, BackgroundSpin
+from navsuite_testing.autonomy.system import run_autonomy, set_initial_pose, start_stack
+from navsuite_testing.ros import REPO, SYSTEM_RTF, BackgroundSpin
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

@@ -18,7 +18,7 @@ import pytest
 
 pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
 
-from tests.helpers.ros import REPO, SYSTEM_RTF
+from navsuite_testing.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

@@ -24,9 +24,9 @@ import yaml
 pytest.importorskip("nav_stack.ros.bringup", reason="the stack does not exist yet")
 
 from nav_stack.core.velocity_smoother import VelocitySmootherParams, check_command_series
+from navsuite_testing.ros import REPO, SYSTEM_RTF
 from ros_tools.bag.reader import BagReader
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
-from tests.helpers.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

@@ -37,11 +37,11 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from navsuite_testing.ros import REPO, BackgroundSpin
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.requests import call_until_answered, poll
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import REPO, BackgroundSpin
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 AMCL_POSE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,

@@ -24,10 +24,10 @@ from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from navsuite_testing.ros import BackgroundSpin
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
-from tests.helpers.ros import BackgroundSpin
 from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]

@@ -35,10 +35,10 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from navsuite_testing.autonomy.system import READY, bringup_command
+from navsuite_testing.ros import BackgroundSpin, connected, wait_until
 from ros_tools.launch import Launcher, ProcessSpec
 from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.autonomy_system import READY, bringup_command
-from tests.helpers.ros import BackgroundSpin, connected, wait_until
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

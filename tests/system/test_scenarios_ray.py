@@ -23,9 +23,9 @@ import pytest
 
 pytest.importorskip("ray", reason="the cluster extra is not installed (pip install navsuite[cluster])")
 
+from navsuite_testing.ros import wait_until
 from ros_tools.scenarios.executor import MARKER, processes_with_env
 from tests.helpers.ray_cluster import TAG, local_cluster
-from tests.helpers.ros import wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 REPO = Path(__file__).resolve().parents[2]

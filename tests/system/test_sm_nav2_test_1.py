@@ -22,12 +22,12 @@ from rclpy.context import Context
 pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
 
 from nav_stack.ros import bringup
+from navsuite_testing.ros import REPO, SYSTEM_RTF
 from ros_tools.report.render import AMCL_COLOR, TRUTH_COLOR
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
 from smacc_py.state_machines.sm_nav2_test_1.demo import REPLAY_TOPICS
 from tests.helpers.bag_replay import bag_info, play_and_count
 from tests.helpers.report_pixels import content_fraction, distinct_colors, load_rgb, pixels_near
-from tests.helpers.ros import REPO, SYSTEM_RTF
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

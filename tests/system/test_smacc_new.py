@@ -22,7 +22,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import SmaccTransitionLogEntry
 from std_msgs.msg import String
 
-from tests.helpers.ros import REPO, spin_until
+from navsuite_testing.ros import REPO, spin_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

@@ -24,8 +24,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import SmaccTransitionLogEntry
 
+from navsuite_testing.ros import spin_until
 from smacc_py.ros.sim_clock import SimClockLeader
-from tests.helpers.ros import spin_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

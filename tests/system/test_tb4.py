@@ -40,11 +40,11 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import UInt32
 
 from nav_stack.ros.conversions import pose_stamped
+from navsuite_testing.ros import REPO, BackgroundSpin
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait, yaw_of
-from tests.helpers.ros import REPO, BackgroundSpin
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

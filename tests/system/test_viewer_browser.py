@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from navsuite_testing.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 from tests.helpers.nav_ros_bt_stack import READY, Bringup
-from tests.helpers.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",

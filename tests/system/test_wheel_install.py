@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.ros import REPO
+from navsuite_testing.ros import REPO
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
 

@@ -27,10 +27,10 @@ from nav_stack.ros.amcl_messages import LOCALIZATION_STATUS, covariance_3x3
 from nav_stack.ros.amcl_node import NO_POSE_WARNING, AmclNode
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import DEFAULT, LATCHED
+from navsuite_testing.localization.nodes import call
+from navsuite_testing.ros import spin_until
 from ros_tools.tf.ros import TransformListener
 from tests.helpers.nav_ros_loc_fakes import BEAMS, FakeRobot
-from tests.helpers.nav_ros_loc_nodes import call
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 TRUE_POSE = (-2.0, -0.5, 0.0)

@@ -23,7 +23,7 @@ import pytest
 
 pytest.importorskip("nav2_msgs.srv")
 
-from tests.helpers.nav_ros_loc_tour import CONVERGED, TourRun
+from navsuite_testing.localization.tour import CONVERGED, TourRun
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

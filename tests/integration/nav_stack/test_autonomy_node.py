@@ -23,8 +23,8 @@ from sensor_msgs.msg import BatteryState
 from nav_stack.core.bt import NodeStatus
 from nav_stack.ros.autonomy.locations import load_locations, nearest_location
 from nav_stack.ros.autonomy.node import AutonomyNode
+from navsuite_testing.ros import REPO, spin_until, start_python, wait_until
 from ros_tools.runtime.executor import make_executor
-from tests.helpers.ros import REPO, spin_until, start_python, wait_until
 from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
 
 pytestmark = pytest.mark.ros

@@ -20,8 +20,7 @@ from rclpy.node import Node
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.behavior_server import build_nodes
 from nav_stack.ros.costmap_ros import CostmapROS
-from ros_tools.runtime.actions import ActionClient
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     Harness,
     WorldNode,
     get_result,
@@ -31,7 +30,8 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
+from ros_tools.runtime.actions import ActionClient
 
 pytestmark = pytest.mark.ros
 

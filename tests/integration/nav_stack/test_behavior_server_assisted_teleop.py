@@ -26,12 +26,12 @@ from nav_stack.ros.behavior_server import build_nodes
 from nav_stack.ros.conversions import costmap_msg
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.nav.world import Harness, get_result, send_goal
+from navsuite_testing.ros import wait_until
 from ros_tools.cmd_vel import CMD_VEL_QOS
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
-from tests.helpers.nav_ros_world import Harness, get_result, send_goal
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -19,8 +19,7 @@ from rclpy.parameter import Parameter
 
 from nav_stack.ros import behavior_server, controller_server
 from nav_stack.ros.frames import FrameError
-from ros_tools.runtime.actions import ActionClient
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     Harness,
     WorldNode,
     get_result,
@@ -29,7 +28,8 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
+from ros_tools.runtime.actions import ActionClient
 
 pytestmark = pytest.mark.ros
 

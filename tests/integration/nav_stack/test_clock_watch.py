@@ -15,7 +15,7 @@ from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
 from nav_stack.ros.clock_watch import ClockWatch
-from tests.helpers.ros import spin_until
+from navsuite_testing.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

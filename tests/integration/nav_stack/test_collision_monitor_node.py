@@ -41,11 +41,11 @@ from visualization_msgs.msg import MarkerArray
 from nav_stack.ros.collision_monitor import CollisionMonitorNode, build_nodes
 from nav_stack.ros.collision_monitor_sources import SourceFrames
 from nav_stack.ros.qos import DEFAULT, SENSOR
+from navsuite_testing.nav.world import Harness
+from navsuite_testing.ros import wait_until
 from ros_tools.cmd_vel import CMD_VEL_QOS
 from ros_tools.tf import Transform, TransformBuffer, TransformError
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
-from tests.helpers.nav_ros_world import Harness
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -29,9 +29,7 @@ from std_msgs.msg import String
 
 from nav_stack.core.control.follow_path import Takeover
 from nav_stack.ros import controller_server, planner_server
-from ros_tools.runtime.actions import ActionClient
-from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     LATCHED,
     Harness,
     WorldNode,
@@ -41,7 +39,9 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
+from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.lockstep import LockstepParticipant
 
 pytestmark = pytest.mark.ros
 Codes = FollowPath.Result

@@ -33,9 +33,7 @@ from visualization_msgs.msg import MarkerArray
 from nav_stack.core.control.mppi import MPPIController, trajectory_markers
 from nav_stack.ros import controller_server, planner_server
 from nav_stack.ros.mppi_visualization import SphereArrayEncoder, _sphere
-from ros_tools.runtime.actions import ActionClient
-from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     Harness,
     WorldNode,
     get_result,
@@ -44,7 +42,9 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
+from ros_tools.runtime.actions import ActionClient
+from ros_tools.runtime.lockstep import LockstepParticipant
 
 pytestmark = pytest.mark.ros
 LOCKSTEP_ROLE = "controller_test"

@@ -29,11 +29,11 @@ from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
 from nav_stack.ros import costmap_publisher
 from nav_stack.ros.conversions import spec_from_info
 from nav_stack.ros.costmap_ros import CostmapROS
+from navsuite_testing.nav.world import LATCHED, Harness, map_without, server_args
+from navsuite_testing.ros import wait_until
 from ros_tools.runtime.requests import call_until_answered
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
-from tests.helpers.nav_ros_world import LATCHED, Harness, map_without, server_args
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 ROBOT = (-2.0, -0.5, 0.0)  # TB3 spawn, in free space; the beams straight ahead meet nothing within 0.6 m

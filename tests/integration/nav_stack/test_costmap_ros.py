@@ -22,7 +22,7 @@ from nav_stack.core.costmap import CostmapParams
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from nav_stack.ros.conversions import spec_from_info
 from nav_stack.ros.costmap_ros import CostmapROS
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     LATCHED,
     Harness,
     WorldNode,
@@ -31,7 +31,7 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
 
 pytestmark = pytest.mark.ros
 MISSING_PILLAR = (-1.1, 0.0)  # cut out of the map; the sim still has it, 1 m ahead-left of the spawn

@@ -23,12 +23,12 @@ from rclpy.parameter import Parameter
 from nav_stack.core.bt import BehaviorTreeFactory, Blackboard, NodeStatus
 from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
 from nav_stack.ros.docking_server import build_nodes
+from navsuite_testing.nav.world import get_result, send_goal
+from navsuite_testing.ros import wait_until
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.requests import call_until_answered
 from tests.helpers.docking_stack import DOCK_IN_MAP, JAZZY_PARAMS, OVERRIDES, Docking
 from tests.helpers.nav_ros_bt_fakes import FakeNavigateToPose
-from tests.helpers.nav_ros_world import get_result, send_goal
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

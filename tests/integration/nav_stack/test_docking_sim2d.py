@@ -42,10 +42,10 @@ from nav_stack.core.docking.controller import relative
 from nav_stack.core.geometry import Pose2D
 from nav_stack.ros.costmap_ros import CostmapROS
 from nav_stack.ros.docking_server import DockingServer, build_nodes
+from navsuite_testing.nav.world import Harness, get_result, send_goal, server_args, sim_time_override
+from navsuite_testing.ros import REPO, wait_until
 from ros_tools.runtime.actions import ActionClient
 from sim2d.ros.sim_node import Sim2dNode
-from tests.helpers.nav_ros_world import Harness, get_result, send_goal, server_args, sim_time_override
-from tests.helpers.ros import REPO, wait_until
 
 pytestmark = pytest.mark.ros
 

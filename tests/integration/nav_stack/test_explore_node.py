@@ -27,8 +27,8 @@ from nav_stack.ros.conversions import occupancy_msg
 from nav_stack.ros.explore import ExploreNode
 from nav_stack.ros.map_saver import MapSaver
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.executor import make_executor
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

@@ -14,7 +14,7 @@ import pytest
 
 pytest.importorskip("nav2_msgs.action")
 
-from tests.helpers.ros import start_python
+from navsuite_testing.ros import start_python
 from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
 
 pytestmark = pytest.mark.ros

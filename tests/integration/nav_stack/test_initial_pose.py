@@ -18,9 +18,9 @@ from rclpy.parameter import Parameter
 from nav_stack.ros.amcl_node import AmclNode
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+from navsuite_testing.ros import spin_until, start_python, stop_process
 from ros_tools.runtime.executor import make_executor
 from tests.helpers.nav_ros_loc_fakes import FakeRobot
-from tests.helpers.ros import spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 

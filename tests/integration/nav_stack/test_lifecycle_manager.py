@@ -25,9 +25,9 @@ from std_srvs.srv import Trigger
 
 from nav_stack.ros.lifecycle_manager import LifecycleManager
 from nav_stack.ros.map_server import MapServer
+from navsuite_testing.localization.nodes import MAP_YAML, call
+from navsuite_testing.ros import spin_until, start_python, stop_process
 from tests.helpers.lossy_service import LoseResponses
-from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
-from tests.helpers.ros import spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 Request = ManageLifecycleNodes.Request

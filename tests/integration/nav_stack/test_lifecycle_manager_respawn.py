@@ -28,9 +28,9 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.ros.lifecycle_manager import LifecycleManager
+from navsuite_testing.localization.nodes import call
+from navsuite_testing.ros import spin_until, start_python, stop_process
 from ros_tools.launch import Launcher, ProcessSpec
-from tests.helpers.nav_ros_loc_nodes import call
-from tests.helpers.ros import spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 BOND_TIMEOUT = 2.0  # s: short, so the tests are quick; the manager's logic does not depend on it

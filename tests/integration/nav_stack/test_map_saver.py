@@ -26,9 +26,9 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
 from nav_stack.ros.map_saver import MapSaver
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.localization.nodes import MAP_YAML, call
+from navsuite_testing.ros import spin_until, start_python, stop_process, wait_until
 from ros_tools.runtime.executor import make_executor
-from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
-from tests.helpers.ros import spin_until, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -24,8 +24,8 @@ from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import grid_from_occupancy
 from nav_stack.ros.map_server import MapServer
 from nav_stack.ros.qos import LATCHED
-from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call, write_map_yaml
-from tests.helpers.ros import spin_until
+from navsuite_testing.localization.nodes import MAP_YAML, call, write_map_yaml
+from navsuite_testing.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

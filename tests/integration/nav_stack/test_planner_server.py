@@ -24,8 +24,7 @@ from std_msgs.msg import String
 
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.planner_server import build_nodes
-from ros_tools.runtime.actions import ActionClient
-from tests.helpers.nav_ros_world import (
+from navsuite_testing.nav.world import (
     LATCHED,
     MAP_YAML,
     Harness,
@@ -36,7 +35,8 @@ from tests.helpers.nav_ros_world import (
     start_sim,
     stop_process,
 )
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
+from ros_tools.runtime.actions import ActionClient
 from tests.helpers.stalling_planner import StallingPlanner
 
 pytestmark = pytest.mark.ros

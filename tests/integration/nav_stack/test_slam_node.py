@@ -1,7 +1,7 @@
 """The slam node in-process with a fake robot (analytic hexagon room): map, pose, TF, pause, save_map,
 and slam_toolbox's Pause / serialize_map / deserialize_map refusing what they cannot do.
 
-The fake robot publishes TF and a scan per step on a fake timeline (tests/helpers/nav_ros_slam_fakes.py);
+The fake robot publishes TF and a scan per step on a fake timeline (navsuite_testing/slam/fakes.py);
 each step waits for the node's ``slam/pose`` of that stamp, so no scan is dropped by the node's
 one-slot mailbox and the run is deterministic.
 """
@@ -18,10 +18,8 @@ import pytest
 
 pytest.importorskip("nav2_msgs.srv")
 
-from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.srv import SaveMap
 from nav_msgs.msg import OccupancyGrid
-from rclpy.node import Node
 from rclpy.parameter import Parameter
 from slam_toolbox.srv import DeserializePoseGraph, Pause, SerializePoseGraph
 from std_srvs.srv import SetBool
@@ -31,39 +29,16 @@ from nav_stack.core.geometry import Pose2D
 from nav_stack.core.map_io import load_map
 from nav_stack.core.slam import GraphFileError, GridSlam, read_graph
 from nav_stack.ros.conversions import grid_from_occupancy
-from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.slam_node import SlamNode
+from navsuite_testing.nav.world import Harness
+from navsuite_testing.ros import wait_until
+from navsuite_testing.slam.fakes import LASER_X, START, TRUTH_SPEC, FakeRobot, tour
+from navsuite_testing.slam.node_probe import Probe, drive
+from navsuite_testing.slam.world import iou_dilated, resample_to
 from ros_tools.tf import Transform
-from ros_tools.tf.buffer import TransformError
 from ros_tools.tf.ros import stamp_to_seconds, transform_from_msg, transform_to_msg
-from tests.helpers.nav_ros_slam_fakes import LASER_X, START, TRUTH_SPEC, FakeRobot, tour
-from tests.helpers.nav_ros_world import Harness
-from tests.helpers.ros import wait_until
-from tests.helpers.slam_world import iou_dilated, resample_to
 
 pytestmark = pytest.mark.ros
-
-
-class Probe(Node):
-    """Collects slam/pose and /map; calls the node's services."""
-
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__("slam_probe", **kwargs)
-        self.poses: list[PoseWithCovarianceStamped] = []
-        self.maps: list[OccupancyGrid] = []
-        self.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self.poses.append, LATCHED)
-        self.create_subscription(OccupancyGrid, "/map", self.maps.append, LATCHED)
-        self.save = self.create_client(SaveMap, "/slam/save_map")
-        self.pause = self.create_client(SetBool, "/slam/pause_new_measurements")
-
-    def stamps(self) -> list[float]:
-        return [p.header.stamp.sec + p.header.stamp.nanosec * 1e-9 for p in self.poses]
-
-    def call(self, client: Any, request: Any) -> Any:
-        wait_until(client.service_is_ready, 10.0, f"service {client.srv_name}")
-        future = client.call_async(request)
-        wait_until(future.done, 30.0, f"response of {client.srv_name}")
-        return future.result()
 
 
 @pytest.fixture
@@ -78,27 +53,6 @@ def rig(ros_context: Any) -> Any:
         yield slam, robot, probe
     finally:
         harness.close()
-
-
-def drive(robot: FakeRobot, probe: Probe, poses: list[Any], slam: SlamNode) -> None:
-    """Publish each pose and wait for the node's pose of that scan. The scan goes out only once the
-    node has the odometry TF at its stamp: it drops a scan whose TF is 0.3 s late, which happened in
-    loaded CI runs."""
-
-    def has_odometry(t: float) -> bool:
-        try:
-            slam.tf.lookup("odom", "base_footprint", t)
-        except TransformError:
-            return False
-        return True
-
-    def node_has_odometry(t: float) -> None:
-        wait_until(lambda: has_odometry(t), 10.0, f"the slam node's odometry TF at {t:.1f} s")
-
-    for pose in poses:
-        t = robot.step(pose, before_scan=node_has_odometry)
-        wait_until(lambda t=t: any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:]), 10.0,
-                   f"slam/pose of the scan at {t:.1f} s")
 
 
 class Settled:

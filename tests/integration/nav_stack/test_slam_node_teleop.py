@@ -10,7 +10,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
 from nav_stack.ros.teleop import LIMITS, TeleopState
-from tests.helpers.ros import spin_until, start_python, stop_process
+from navsuite_testing.ros import spin_until, start_python, stop_process
 
 
 def test_keys_step_clamp_and_stop() -> None:

@@ -22,7 +22,8 @@ from slam_toolbox.srv import DeserializePoseGraph, Pause, SerializePoseGraph
 
 from nav_stack.core.slam import GridSlam, read_graph
 from nav_stack.ros.conversions import grid_from_occupancy
-from tests.helpers.nav_ros_loc_nodes import call
+from navsuite_testing.localization.nodes import call
+from navsuite_testing.ros import spin_until, stop_process
 from tests.helpers.nav_ros_slam_drive import (
     SLAM_MAX_ERROR,
     SLAM_MAX_MEDIAN_ERROR,
@@ -30,7 +31,6 @@ from tests.helpers.nav_ros_slam_drive import (
     slam_params_file,
     start_slam,
 )
-from tests.helpers.ros import spin_until, stop_process
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 

@@ -28,11 +28,11 @@ from nav_stack.ros.conversions import costmap_msg, path_from_array
 from nav_stack.ros.frames import FrameError
 from nav_stack.ros.qos import LATCHED
 from nav_stack.ros.smoother_server import build_nodes, path_poses
+from navsuite_testing.nav.world import Harness, get_result, send_goal
+from navsuite_testing.ros import wait_until
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
-from tests.helpers.nav_ros_world import Harness, get_result, send_goal
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

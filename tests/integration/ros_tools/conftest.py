@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
-from tests.helpers.ros import BackgroundSpin, start_python, wait_until
+from navsuite_testing.ros import BackgroundSpin, start_python, wait_until
 from tests.helpers.ros_cli import CLI
 
 

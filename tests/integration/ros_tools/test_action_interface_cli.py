@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
 from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 FEEDBACK_STEPS = 3

@@ -19,10 +19,10 @@ from nav2_msgs.action import NavigateToPose
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.action_watch import ServerLossWatch
 from ros_tools.runtime.actions import ActionClient
 from tests.helpers.held_action_server import READY_LINE
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 REPO = Path(__file__).resolve().parents[3]

@@ -15,6 +15,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy
 from rosgraph_msgs.msg import Clock
 
+from navsuite_testing.ros import spin_until, start_python, stop_process, wait_until
 from ros_tools.bag.qos import parse_offered_qos
 from ros_tools.bag.reader import BagReader
 from ros_tools.report import ReportParams, write_report
@@ -22,7 +23,6 @@ from ros_tools.report.render import TRUTH_COLOR
 from tests.helpers.bag_replay import BAG_CLI, TopicCounter, bag_info, play_and_count
 from tests.helpers.bag_sim import PROCESS_TIMEOUT, record_sim
 from tests.helpers.report_pixels import distinct_colors, load_rgb, pixels_near
-from tests.helpers.ros import spin_until, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 

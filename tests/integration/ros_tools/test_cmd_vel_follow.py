@@ -17,8 +17,8 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from navsuite_testing.ros import spin_until
 from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher, subscribers_take_stamped
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

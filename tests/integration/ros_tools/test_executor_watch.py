@@ -8,9 +8,9 @@ from typing import Any
 import pytest
 from rclpy.node import Node
 
+from navsuite_testing.ros import spin_until, wait_until
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.executor_watch import ExecutorWatch
-from tests.helpers.ros import spin_until, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -21,10 +21,10 @@ from typing import Any
 
 import pytest
 
+from navsuite_testing.ros import start_python, wait_until
 from ros_tools.bag.reader import BagError
 from ros_tools.bag.recorder import RecordOptions
 from ros_tools.bag.schema import message_definition
-from tests.helpers.ros import start_python, wait_until
 from tests.integration.ros_tools.conftest import StreamingCli
 
 pytestmark = pytest.mark.ros

@@ -14,10 +14,10 @@ from typing import Any
 import pytest
 from rclpy.node import Node
 
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.coroutines import spawn, until
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.offload import Offload, OffloadClosedError
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

@@ -13,10 +13,10 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_srvs.srv import Trigger
 
+from navsuite_testing.ros import spin_until, spinning
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.requests import call_service, call_until_answered, doubling
 from tests.helpers.lossy_service import LoseResponses
-from tests.helpers.ros import spin_until, spinning
 
 pytestmark = pytest.mark.ros
 

@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from tests.helpers.ros import start_python, stop_process, wait_until
+from navsuite_testing.ros import start_python, stop_process, wait_until
 from tests.helpers.runner_probe import INTERRUPTED
 
 pytestmark = pytest.mark.ros

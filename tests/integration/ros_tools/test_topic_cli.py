@@ -7,7 +7,7 @@ import re
 import pytest
 import yaml
 
-from tests.helpers.ros import wait_until
+from navsuite_testing.ros import wait_until
 from tests.helpers.ros_cli import DISCOVERY, run_cli
 
 pytestmark = pytest.mark.ros

@@ -173,7 +173,7 @@ def test_stream_delivers_particles_plans_local_costmap_footprint_waypoints_and_n
 def test_pose_estimate_and_goal_clicks_publish(viewer, spinning):
     from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
 
-    from tests.helpers.ros import wait_until
+    from navsuite_testing.ros import wait_until
 
     node = spinning("click_listener")
     got: dict[str, object] = {}
@@ -245,7 +245,7 @@ def test_a_1khz_topic_reaches_the_browser_at_most_at_the_rate(viewer, stream, sp
 
 def test_the_command_serves_on_a_free_port_and_stops_on_ctrl_c():
     """``python -m ros_tools.viewer.main --port 0`` prints its URL, serves the page, exits 0 on SIGINT."""
-    from tests.helpers.ros import start_python, stop_process, wait_until
+    from navsuite_testing.ros import start_python, stop_process, wait_until
 
     proc = start_python("ros_tools.viewer.main", ["--port", "0", "--rate", "5"])
     lines: list[str] = []

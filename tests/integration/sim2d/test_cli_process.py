@@ -10,7 +10,7 @@ from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from tests.helpers.ros import spin_until, start_python, stop_process
+from navsuite_testing.ros import spin_until, start_python, stop_process
 
 pytestmark = pytest.mark.ros
 

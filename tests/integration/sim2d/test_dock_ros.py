@@ -24,9 +24,9 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import BatteryState
 
+from navsuite_testing.ros import spin_until
 from sim2d.core.spatial import from_quaternion, rotation_rpy
 from sim2d.ros.sim_node import Sim2dNode
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

@@ -30,10 +30,10 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Header, UInt32
 from tf2_msgs.msg import TFMessage
 
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC
 from sim2d.core.robot import robot_model
 from sim2d.ros.sim_node import Sim2dNode
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

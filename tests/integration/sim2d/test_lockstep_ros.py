@@ -28,10 +28,10 @@ from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Header
 from std_srvs.srv import SetBool
 
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC, LockstepParticipant, hold_process
 from sim2d.ros.sim_node import Sim2dNode
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

@@ -28,9 +28,9 @@ from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker
 
+from navsuite_testing.ros import spin_until
 from ros_tools.runtime.lockstep import LockstepParticipant
 from sim2d.ros.sim_node import Sim2dNode
-from tests.helpers.ros import spin_until
 
 pytestmark = pytest.mark.ros
 

@@ -32,8 +32,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
+from navsuite_testing.ros import BackgroundSpin, connected, start_python, stop_process, wait_until
 from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.ros import BackgroundSpin, connected, start_python, stop_process, wait_until
 
 pytestmark = pytest.mark.ros
 

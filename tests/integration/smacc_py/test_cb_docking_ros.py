@@ -12,6 +12,7 @@ pytest.importorskip("nav2_msgs.action", reason="nav2_msgs is not built (run the 
 
 from rclpy.parameter import Parameter
 
+from navsuite_testing.ros import wait_until
 from smacc_py.clients.cl_nav2z import CbDockRobot, CbUndockRobot, ClNav2Z
 from smacc_py.core import (
     ABORT,
@@ -25,7 +26,6 @@ from smacc_py.core import (
 )
 from smacc_py.ros.runtime import SmaccRuntime
 from tests.helpers.docking_stack import OVERRIDES, Docking
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

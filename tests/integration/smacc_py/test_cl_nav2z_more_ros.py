@@ -18,6 +18,8 @@ from visualization_msgs.msg import MarkerArray
 
 from nav_stack.ros.costmap_ros import CostmapROS
 from nav_stack.ros.slam_node import SlamNode
+from navsuite_testing.nav.world import Harness
+from navsuite_testing.ros import spin_until, wait_until
 from smacc_py.clients.cl_nav2z import (
     CbNavigateGlobalPosition,
     CbNavigateNamedWaypoint,
@@ -33,8 +35,6 @@ from smacc_py.clients.cl_nav2z import (
 )
 from smacc_py.clients.cl_nav2z.cp_waypoints_visualizer import LATCHED_QOS, MARKERS_TOPIC, REACHED
 from smacc_py.core import SmaccClientBehavior
-from tests.helpers.nav_ros_world import Harness
-from tests.helpers.ros import spin_until, wait_until
 from tests.helpers.smacc_nav2z_more_fakes import WAYPOINTS, add_until_reached, chain
 from tests.helpers.smacc_ros_fake_nav2 import START_S
 from tests.integration.smacc_py.conftest import transition_keys

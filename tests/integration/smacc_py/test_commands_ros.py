@@ -11,8 +11,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import SmaccStatus, SmaccTransitionLogEntry
 
+from navsuite_testing.ros import REPO, spin_until, start_python, stop_process
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
-from tests.helpers.ros import REPO, spin_until, start_python, stop_process
 from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
 
 pytestmark = pytest.mark.ros

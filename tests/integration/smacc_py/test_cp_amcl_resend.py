@@ -15,9 +15,9 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from navsuite_testing.ros import BackgroundSpin, wait_until
 from smacc_py.clients.cl_nav2z.cp_amcl import AMCL_POSE_QOS, CpAmcl
 from smacc_py.ros.context import RosContext, attach_ros_context
-from tests.helpers.ros import BackgroundSpin, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -19,6 +19,7 @@ from sensor_msgs.msg import Temperature
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
+from navsuite_testing.ros import wait_until
 from smacc_py.clients import (
     CbCallService,
     CbPublishOnce,
@@ -45,7 +46,6 @@ from smacc_py.core import (
 )
 from smacc_py.examples.writing_clients import SmClientGuide
 from smacc_py.ros.runtime import SmaccRuntime
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -9,8 +9,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from smacc2_msgs.msg import SmaccEvent, SmaccStateMachine, SmaccStatus, SmaccTransitionLogEntry
 from smacc2_msgs.srv import SmaccGetTransitionHistory
 
+from navsuite_testing.ros import spin_until, wait_until
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS, SmNav2Test1
-from tests.helpers.ros import spin_until, wait_until
 
 pytestmark = pytest.mark.ros
 

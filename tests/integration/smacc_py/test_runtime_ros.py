@@ -6,8 +6,8 @@ import logging
 
 import pytest
 
+from navsuite_testing.ros import wait_until
 from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 

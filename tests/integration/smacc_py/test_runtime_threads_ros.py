@@ -20,6 +20,7 @@ from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor
 from std_msgs.msg import Header
 
+from navsuite_testing.ros import spin_until, wait_until
 from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC
 from smacc_py.core import (
     ISmaccClient,
@@ -33,7 +34,6 @@ from smacc_py.core import (
     Transition,
 )
 from smacc_py.ros.context import ros_context
-from tests.helpers.ros import spin_until, wait_until
 
 pytestmark = pytest.mark.ros
 

@@ -10,8 +10,8 @@ import pytest
 from rclpy.node import Node
 from sensor_msgs.msg import BatteryState
 
+from navsuite_testing.ros import wait_until
 from smacc_py.state_machines.sm_battery_patrol import VISITS_KEY, SmBatteryPatrol
-from tests.helpers.ros import wait_until
 
 pytestmark = pytest.mark.ros
 
@@ -101,7 +101,7 @@ def test_demo_runs_two_rounds_with_a_recharge_and_exits_0() -> None:
     import subprocess
     import sys
 
-    from tests.helpers.ros import start_python
+    from navsuite_testing.ros import start_python
 
     stack = f"{sys.executable} -m tests.helpers.autonomy_fake_stack --drain 0.15 --charge 0.5"
     proc = start_python("smacc_py.state_machines.sm_battery_patrol.demo",

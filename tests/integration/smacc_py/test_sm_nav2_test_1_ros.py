@@ -10,8 +10,8 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from std_msgs.msg import UInt16
 
+from navsuite_testing.ros import spin_until, wait_until
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS, SmNav2Test1
-from tests.helpers.ros import spin_until, wait_until
 from tests.integration.smacc_py.conftest import transition_keys
 
 pytestmark = pytest.mark.ros

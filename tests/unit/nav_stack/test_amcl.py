@@ -18,7 +18,7 @@ from nav_stack.core.localization.params import BEAM
 from nav_stack.core.localization.sensor_model import LikelihoodFieldModel, select_beams
 from nav_stack.core.localization.weighting import FitAverages, reweight
 from nav_stack.core.map_io import load_map
-from tests.helpers.nav_fake_lidar import clutter_world, corridor_world, fake_scan
+from navsuite_testing.nav.fake_lidar import clutter_world, corridor_world, fake_scan
 
 TB3_MAP = Path(__file__).resolve().parents[3] / "maps" / "turtlebot3_world.yaml"
 N = 200_000

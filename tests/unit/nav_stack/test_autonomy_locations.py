@@ -18,7 +18,7 @@ from nav_stack.ros.autonomy.locations import (
     nearest_location,
 )
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
-from tests.helpers.autonomy_fakes import FakeNavigator
+from navsuite_testing.autonomy.fakes import FakeNavigator
 
 REPO = Path(__file__).resolve().parents[3]
 V3 = REPO / "config" / "trees" / "seed_battery_patrol_v3.xml"

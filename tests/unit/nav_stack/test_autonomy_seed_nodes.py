@@ -10,7 +10,7 @@ from nav_stack.core.bt import BehaviorTreeFactory, BtLoadError, NodeStatus, Tree
 from nav_stack.ros.autonomy.battery import CounterBattery, RechargeState, TopicBattery, TopicBatteryParams
 from nav_stack.ros.autonomy.locations import Location
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
-from tests.helpers.autonomy_fakes import FakeNavigator, ListLog, StepClock
+from navsuite_testing.autonomy.fakes import FakeNavigator, ListLog, StepClock
 
 REPO = Path(__file__).resolve().parents[3]
 V3 = REPO / "config" / "trees" / "seed_battery_patrol_v3.xml"

@@ -25,7 +25,7 @@ from nav_stack.core.costmap import (
 )
 from nav_stack.core.costmap.distance import squared_distance_cells
 from nav_stack.core.grid import GridSpec
-from tests.helpers.nav_fake_lidar import fake_scan, pillar_world
+from navsuite_testing.nav.fake_lidar import fake_scan, pillar_world
 
 SQUARE = ((0.22, 0.22), (0.22, -0.22), (-0.22, -0.22), (-0.22, 0.22))  # inscribed radius exactly 0.22 m
 

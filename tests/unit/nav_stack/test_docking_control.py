@@ -183,7 +183,7 @@ def _dock_file_controller(world: str, **overrides: Any) -> tuple[DockingControll
     robot_radius 0.175 m circle as 16 points, padded by footprint_padding 0.01 m)."""
     import yaml
 
-    from tests.helpers.ros import REPO
+    from navsuite_testing.ros import REPO
 
     config = yaml.safe_load((REPO / "config" / "docks" / f"{world}.yaml").read_text())
     section = config["docking_server"]["ros__parameters"]["controller"]

@@ -21,7 +21,7 @@ from nav_stack.core.exploration import (
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import GridSlam, SlamParams
-from tests.helpers.slam_world import NoisyOdometry, hexagon_world, interpolate, resample_to
+from navsuite_testing.slam.world import NoisyOdometry, hexagon_world, interpolate, resample_to
 
 RES = 0.1
 

@@ -19,7 +19,7 @@ from nav_stack.core.localization import Amcl, AmclParams
 from nav_stack.core.localization.likelihood_field_prob import LikelihoodFieldProbModel
 from nav_stack.core.localization.params import LIKELIHOOD_FIELD, LIKELIHOOD_FIELD_PROB
 from nav_stack.core.localization.sensor_model import select_beams
-from tests.helpers.nav_fake_lidar import cast_ranges, fake_scan
+from navsuite_testing.nav.fake_lidar import cast_ranges, fake_scan
 
 PROB = AmclParams(laser_model_type=LIKELIHOOD_FIELD_PROB, do_beamskip=True)
 Pose = tuple[float, float, float]

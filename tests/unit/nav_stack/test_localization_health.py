@@ -22,7 +22,7 @@ from nav_stack.core.localization.health import (
 )
 from nav_stack.core.localization.params import BEAM
 from nav_stack.core.localization.sensor_model import DistanceField, select_beams
-from tests.helpers.nav_fake_lidar import clutter_world, fake_scan
+from navsuite_testing.nav.fake_lidar import clutter_world, fake_scan
 
 POSE = (0.3, -0.4, 0.2)
 TIGHT = np.diag([0.01, 0.01, 0.005])  # σ 0.1 m, 0.07 rad

@@ -24,7 +24,7 @@ from nav_stack.core.slam import (
     total_error,
 )
 from nav_stack.core.slam.pose_graph import relative_pose
-from tests.helpers.slam_world import NoisyOdometry, hexagon_world, interpolate, iou_dilated
+from navsuite_testing.slam.world import NoisyOdometry, hexagon_world, interpolate, iou_dilated
 
 START = Pose2D(-2.0, -0.5, 0.0)  # turtlebot3_world spawn pose
 

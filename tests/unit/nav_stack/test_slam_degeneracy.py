@@ -16,7 +16,7 @@ import numpy as np
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import GridSlam, MatchResult, SlamParams
 from nav_stack.core.slam.tracking import tracked_pose
-from tests.helpers.slam_world import NoisyOdometry, World, interpolate
+from navsuite_testing.slam.world import NoisyOdometry, World, interpolate
 
 LENGTH = 16.0  # m, over four times the 3.5 m laser range
 

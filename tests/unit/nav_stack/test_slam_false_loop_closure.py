@@ -21,7 +21,7 @@ import numpy as np
 
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import Edge, GridSlam, SlamParams, between, optimize
-from tests.helpers.slam_world import World, interpolate
+from navsuite_testing.slam.world import World, interpolate
 
 PERIOD = 0.9  # m between identical pillars
 DRIFT = 0.6  # m of odometry drift (+x) accumulated over the whole drive

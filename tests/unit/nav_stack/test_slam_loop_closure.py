@@ -9,7 +9,7 @@ import numpy as np
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import GridSlam, SlamParams
 from nav_stack.core.slam.loop_closure import candidate_chains
-from tests.helpers.slam_world import NoisyOdometry, interpolate, ring_world
+from navsuite_testing.slam.world import NoisyOdometry, interpolate, ring_world
 
 START = Pose2D(-4.25, -4.25, 0.0)
 LAP = [

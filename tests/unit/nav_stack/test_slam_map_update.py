@@ -12,7 +12,7 @@ from nav_stack.core.slam.laser import ScanPoints
 from nav_stack.core.slam.log_odds import LogOddsGrid
 from nav_stack.core.slam.pose_graph_jit import block_tridiagonal_solve
 from nav_stack.core.slam.rerender import Rerender
-from tests.helpers.slam_world import NoisyOdometry, interpolate, ring_world
+from navsuite_testing.slam.world import NoisyOdometry, interpolate, ring_world
 
 Scan = tuple[tuple[float, float], FloatArray, FloatArray]
 

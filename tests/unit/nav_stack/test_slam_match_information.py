@@ -14,7 +14,7 @@ from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import CorrelationGrid, scan_points
 from nav_stack.core.slam.laser import JOIN_GAP, densify, to_map
 from nav_stack.core.slam.match_information import along_axis, facing, peak_information
-from tests.helpers.slam_world import World
+from navsuite_testing.slam.world import World
 
 ALONG_X = np.array([1.0, 0.0])
 

@@ -16,7 +16,7 @@ from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import CorrelationGrid, GridSlam, SearchWindow, SlamParams, match, scan_points
 from nav_stack.core.slam.laser import densify, to_map
 from nav_stack.core.slam.shared import loop_information
-from tests.helpers.slam_world import NoisyOdometry, interpolate, ring_world
+from navsuite_testing.slam.world import NoisyOdometry, interpolate, ring_world
 from tests.unit.nav_stack.test_slam_loop_closure import LAP, START
 
 WINDOW = SearchWindow(0.25, 0.349, 0.0349, 0.00349, 0.5, 1.0, 0.5, 0.9, 14)

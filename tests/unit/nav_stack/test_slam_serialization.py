@@ -13,7 +13,7 @@ import yaml
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import GraphFileError, GraphLocalizer, GridSlam, SlamParams, read_graph, write_graph
 from nav_stack.core.slam.serialization import graph_paths
-from tests.helpers.slam_world import NoisyOdometry, hexagon_world, interpolate
+from navsuite_testing.slam.world import NoisyOdometry, hexagon_world, interpolate
 
 START = Pose2D(-2.0, -0.5, 0.0)
 FIRST_LEG = [START, Pose2D(-0.55, -0.5, 0.0), Pose2D(-0.55, 1.8, 0.0)]

@@ -14,7 +14,7 @@ import pytest
 
 import navsuite_data
 from navsuite_data import config_path, data_dir, data_root, map_path, resolve, searched, shipped, world_path
-from tests.helpers.ros import REPO
+from navsuite_testing.ros import REPO
 
 
 def test_in_the_checkout_the_data_folders_are_the_repositorys_own() -> None:

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from tests.helpers.ros import REPO
+from navsuite_testing.ros import REPO
 
 GUIDE = REPO / "docs" / "smacc_own_machine.md"
 

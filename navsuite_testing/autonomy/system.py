@@ -107,7 +107,7 @@ class AutonomyRun:
 
 def run_autonomy(params: dict[str, object], timeout: float) -> AutonomyRun:
     """Run ``python -m nav_stack.ros.autonomy.node`` with ``params`` (and use_sim_time) to its exit."""
-    from tests.helpers.ros import start_python
+    from navsuite_testing.ros import start_python
 
     args = ["--ros-args", "-p", "use_sim_time:=true"]
     for name, value in params.items():

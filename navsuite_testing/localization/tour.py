@@ -37,9 +37,9 @@ from std_srvs.srv import Empty, Trigger
 
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import LATCHED
+from navsuite_testing.localization.nodes import MAP_YAML, call
+from navsuite_testing.ros import connected, spin_until, start_python, stop_process
 from ros_tools.runtime.lockstep import LockstepParticipant
-from tests.helpers.nav_ros_loc_nodes import MAP_YAML, call
-from tests.helpers.ros import connected, spin_until, start_python, stop_process
 
 START = (-2.0, -0.5, 0.0)
 TOUR = [(-1.65, -0.55), (1.65, -0.55), (1.65, 0.55), (0.55, 0.55), (0.55, 1.65), (-0.55, 1.65),

@@ -24,7 +24,7 @@ from rclpy.node import Node
 from ros_tools.runtime.requests import poll
 from ros_tools.runtime.runner import spin_until_shutdown
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[1]
 
 #: The simulator's real-time factor in whole-stack tests: ``max``, as fast as the slowest lockstep
 #: participant keeps up. Lockstep does not yet cover messages in flight between processes or DDS

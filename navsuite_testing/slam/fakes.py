@@ -1,7 +1,7 @@
 """A fake robot for the slam node's in-process tests: TF and LaserScans from the analytic hexagon room.
 
 The robot "teleports" along ground-truth poses: each ``step()`` publishes odom → base_footprint on
-/tf and then a scan from the pose (exact analytic lidar of tests/helpers/slam_world.py, seeded
+/tf and then a scan from the pose (exact analytic lidar of navsuite_testing/slam/world.py, seeded
 noise) with the same stamp, so the node always finds the odometry of a scan. Stamps advance by
 SCAN_PERIOD per step on a fake timeline, independent of the wall clock. Odometry starts at the
 origin of ``odom`` (as sim2d's does), so map → odom equals the start pose when nothing drifts.
@@ -22,9 +22,9 @@ from nav_stack.core.geometry import Pose2D, compose
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import inverse
 from nav_stack.ros.qos import DEFAULT
+from navsuite_testing.slam.world import World, hexagon_world, interpolate
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, TransformBroadcaster, transform_to_msg
-from tests.helpers.slam_world import World, hexagon_world, interpolate
 
 START = Pose2D(-2.0, -0.5, 0.0)
 LASER_X = -0.064  # m, waffle base_footprint → base_scan (z ignored)

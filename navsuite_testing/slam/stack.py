@@ -9,7 +9,6 @@ Output lines are kept (``lines``) so a failing test can show them and a run can 
 
 from __future__ import annotations
 
-import math
 import re
 import subprocess
 import sys
@@ -22,9 +21,9 @@ import numpy as np
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.bringup_components import COMPONENT_READY, component_role
+from navsuite_testing.ros import REPO
+from navsuite_testing.slam.world import dilate
 from ros_tools.launch import Launcher, ProcessSpec
-from tests.helpers.ros import REPO
-from tests.helpers.slam_world import dilate
 
 PARAMS_FILE = REPO / "config" / "nav2_params.yaml"
 REFERENCE_MAP = REPO / "maps" / "turtlebot3_world.yaml"
@@ -88,11 +87,6 @@ class Stack:
         """No required process has exited (the initial pose publisher exits once AMCL confirms)."""
         return all(r.proc.poll() is None for r in self.launcher.running if r.spec.required)
 
-    def logged(self, process: str, text: str) -> bool:
-        """Whether ``process`` (its prefix) has printed a line containing ``text``."""
-        with self._lock:
-            return any(line.startswith(f"[{process}]") and text in line for line in self.lines)
-
     def tail(self, n: int = 80) -> str:
         with self._lock:
             return "\n".join(self.lines[-n:])
@@ -146,7 +140,7 @@ def compare_with_reference(map_yaml: Path, reference: Path = REFERENCE_MAP,
     """IoU (one-cell tolerance) of the map's occupied cells with the ``reference`` map's walls that a
     lidar can see from the free space around ``inside`` (m; the world's spawn). Both maps must share
     the map frame (SLAM's map_start_pose at the spawn, as nav-bringup --slam --world sets it)."""
-    from tests.helpers.slam_world import iou_dilated, resample_to
+    from navsuite_testing.slam.world import iou_dilated, resample_to
 
     ref = load_map(reference)
     est = load_map(map_yaml)
@@ -155,6 +149,3 @@ def compare_with_reference(map_yaml: Path, reference: Path = REFERENCE_MAP,
     # Far outside the arena nothing is observable; an occupied estimate cell there is a plain error.
     return iou_dilated(estimate, truth)
 
-
-def pose_error(truth: tuple[float, float], estimate: tuple[float, float]) -> float:
-    return math.hypot(truth[0] - estimate[0], truth[1] - estimate[1])

@@ -25,17 +25,17 @@ from nav_msgs.msg import OccupancyGrid, Odometry
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import UInt32
-from std_srvs.srv import Empty, SetBool
+from std_srvs.srv import Empty
 
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
+from navsuite_testing.ros import REPO, start_python, stop_process, wait_until
 from ros_tools.runtime.actions import send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.requests import call_until_answered
 from ros_tools.runtime.runner import spin_until_shutdown
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, transform_to_msg
-from tests.helpers.ros import REPO, start_python, stop_process, wait_until
 
 SPAWN = (-2.0, -0.5, 0.0)
 CLOCK_RATE = 50.0  # /clock messages per sim second
@@ -123,7 +123,6 @@ class WorldNode(Node):
         self.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
         self.create_subscription(UInt32, "/sim2d/collision_count", self._on_collisions, LATCHED)
         self.reset_client = self.create_client(Empty, "/sim2d/reset")
-        self.pause_client = self.create_client(SetBool, "/sim2d/pause")
 
     def _on_truth(self, msg: Odometry) -> None:
         self.truth = msg

@@ -8,8 +8,8 @@ from typing import Any
 from rclpy.client import Client
 from rclpy.executors import Executor
 
+from navsuite_testing.ros import REPO, spin_until, spinning
 from ros_tools.runtime.requests import SERVICE_RETRY_S, call_until_answered
-from tests.helpers.ros import REPO, spin_until, spinning
 
 MAP_YAML = REPO / "maps" / "turtlebot3_world.yaml"
 

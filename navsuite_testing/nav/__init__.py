@@ -1,0 +1,1 @@
+"""Navigation rigs: in-process nodes on the real map (world) and a vectorised fake lidar (fake_lidar)."""
