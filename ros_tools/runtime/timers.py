@@ -83,6 +83,15 @@ class _DueOnly:
         self.callback()
         return True
 
+    def due_by_its_clock(self) -> bool:
+        """Whether the timer's own clock has reached its next call (a node clock may still lag the
+        newest /clock the participant heard: then the executor will dispatch it once it moves)."""
+        try:
+            ahead = self.timer.time_until_next_call()
+        except Exception:  # destroyed with its node
+            return False
+        return ahead is not None and ahead <= 0
+
     def next_call_ns(self) -> int | None:
         """The clock time (ns) of the call this timer owes next; None when canceled or destroyed."""
         timer = self.timer
@@ -126,11 +135,14 @@ def run_overdue(clock_ns: int, context: Any = None) -> list[str]:
     state machine's 10 Hz spin control stopped for seconds of sim time, the robot turned 280 of 180
     degrees; its signal-detector timer stopped and a demo never left StNavigateToWaypoint1). The
     lockstep participant calls this for a timer its tick has waited for too long, so a missed
-    wake-up costs that wait, never the timer.
+    wake-up costs that wait, never the timer. Only a call due by the timer's own clock is made: a
+    node clock that lags the participant's /clock (CI: the isolated layout's navigation process)
+    is not a missed wake-up, and a call made ahead of it crawled at one call per grace.
     """
     owing = [t for t in list(_SIM_TIMERS) if context is None or t.node.context is context]
     due = sorted(((call, index, t) for index, t in enumerate(owing)
-                  if (call := t.next_call_ns()) is not None and call <= clock_ns), key=lambda c: c[:2])
+                  if (call := t.next_call_ns()) is not None and call <= clock_ns and t.due_by_its_clock()),
+                 key=lambda c: c[:2])
     return [getattr(t.callback, "__name__", "callback") for _, _, t in due if t.run_missed()]
 
 
