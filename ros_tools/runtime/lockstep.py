@@ -97,6 +97,8 @@ class LockstepParticipant:
         self._left = False
         self._owed = False  # the newest /clock was not fully reported: a hold or a due timer kept it back
         self._owed_since: tuple[int, float] | None = None  # (the owed call's ns, wall s it was first seen)
+        #: the executor once left a due timer call unmade: from then on the participant makes due calls
+        self._driving = False
         timers.add_after_call(self._report_withheld)
         _PROCESS_PARTICIPANTS.append(self)
 
@@ -139,6 +141,8 @@ class LockstepParticipant:
         degrees turned 280) and a demo never leave its first navigation state. The simulator
         re-sends /clock every 0.1 s while it waits, so the grace is checked then.
         """
+        if self._driving:  # the executor has missed a due timer before: make due calls at once
+            timers.run_overdue(clock_ns, self.node.context)
         due = timers.earliest_due_ns(self.node.context)
         if due is None or due > clock_ns:
             self._owed_since = None
@@ -155,9 +159,12 @@ class LockstepParticipant:
                     throttle_duration_sec=10.0)
                 return clock_ns
             self._owed_since = None
-            self.node.get_logger().warning(
-                f"lockstep: the executor missed a timer due at sim time {due * 1e-9:.3f} s for {OWED_GRACE} "
-                f"s (wall); ran it here ({', '.join(ran)})", throttle_duration_sec=10.0)
+            if not self._driving:  # once is enough: a grace per tick crawled (CI run 15)
+                self._driving = True
+                self.node.get_logger().warning(
+                    f"lockstep: the executor missed a timer due at sim time {due * 1e-9:.3f} s for "
+                    f"{OWED_GRACE} s (wall); ran it here ({', '.join(ran)}), and from now on this "
+                    "process's due timer calls are made at each tick")
             left = timers.earliest_due_ns(self.node.context)  # one that ran has its next call ahead
             return clock_ns if left is None or left > clock_ns else left - 1
         return due - 1
