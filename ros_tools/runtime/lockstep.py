@@ -13,13 +13,13 @@ Protocol, on topic ``/lockstep/progress`` (std_msgs/Header, reliable, depth 10):
 * ``stamp`` is the newest tick T this process has done: its /clock message has been taken off the
   executor's queue (the executor runs callbacks in arrival order and the simulator sends /clock
   after the data of the same time, so every scan, odometry and TF message stamped up to T has been
-  processed) and every periodic sim-time timer of the process due at or before T has run
-  (ros_tools/runtime/timers.py: ``earliest_due_ns``). Why the second condition: the /clock that
-  moves the node clock and the one the participant hears are two subscriptions, and the timer
-  manager queues the due timer from its own thread, so a report sent on /clock alone went out
-  before the controller's cycle of the same tick on some runs, and the simulator stepped on
-  meanwhile (docs/architecture.md, "What repeats"). A report withheld for a timer goes out as soon
-  as the timer has run;
+  processed) and every periodic sim-time timer of the process due at or before T has run. The
+  participant makes those calls itself, on /clock T, before it reports
+  (``LockstepParticipant._done_ns``, ros_tools/runtime/timers.py ``run_overdue``). Why: left to the
+  executor, a due timer ran after the report on some runs (its timer manager queues it from its own
+  wake-up) and the simulator stepped on meanwhile (docs/architecture.md, "What repeats"), or never
+  ran at all. A call whose node clock has not reached T yet (each node's TimeSource has its own
+  /clock subscription) withholds the report until that node's /clock has come and the timer ran;
 * a zero ``stamp`` says the participant leaves (the runner sends it at teardown) and no longer
   holds the simulator back.
 
@@ -54,7 +54,7 @@ CLOCK_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 REPORT_PERIOD = 0.02  # s of sim time between reports
 #: wall s a process may hold the simulator for a request crossing DDS (under lockstep.timeout, 10 s)
 REQUEST_HOLD = 2.0
-#: wall s a report waits for a sim-time timer due at its tick before the participant runs it itself
+#: wall s a report waits for a node clock that lags its tick before counting the tick done without its calls
 OWED_GRACE = 0.25
 
 _PROCESS_PARTICIPANTS: list[LockstepParticipant] = []  # this process's live participants
@@ -97,8 +97,6 @@ class LockstepParticipant:
         self._left = False
         self._owed = False  # the newest /clock was not fully reported: a hold or a due timer kept it back
         self._owed_since: tuple[int, float] | None = None  # (the owed call's ns, wall s it was first seen)
-        #: the executor once left a due timer call unmade: from then on the participant makes due calls
-        self._driving = False
         timers.add_after_call(self._report_withheld)
         _PROCESS_PARTICIPANTS.append(self)
 
@@ -128,21 +126,27 @@ class LockstepParticipant:
             self._report(done)
 
     def _done_ns(self, clock_ns: int) -> int:
-        """The newest tick (ns) done, given the newest /clock taken off the queue: one ns before the
-        oldest call a periodic sim-time timer of this process still owes, when that comes earlier.
+        """Make the sim-time timer calls due by ``clock_ns``, then return the newest tick (ns) done: one
+        ns before the oldest call a periodic sim-time timer of this process still owes, when that
+        comes earlier.
 
-        A timer is waited for OWED_GRACE wall seconds at most: past that this participant makes the
-        owed call itself when the timer's own clock has reached it (timers.run_overdue), and otherwise
-        (its node's clock lags) the tick counts as done without it. Why: rclpy's EventsExecutor can
-        miss a sim-time timer's wake-up (it has no support for a ROS clock that jumps;
-        ros2/rclcpp#2457). A report withheld for a call that never comes stopped the world for good
-        (CI run 6), and a tick reported done without it left the timer dead: the CI runs of
-        2026-11-29 saw a state machine's control loop stop for seconds of sim time (a spin of 180
-        degrees turned 280) and a demo never leave its first navigation state. The simulator
-        re-sends /clock every 0.1 s while it waits, so the grace is checked then.
+        Why the participant makes the calls (timers.run_overdue) instead of waiting for the executor
+        to dispatch them: the order within a tick is then fixed (the data stamped up to T, queued
+        before /clock T, then T's timer calls, then the report), and a timer cannot die. rclpy's
+        EventsExecutor does miss sim-time wake-ups at times (it has no support for a ROS clock that
+        jumps; ros2/rclcpp#2457): a report withheld for a call that never came stopped the world
+        (CI run 6); a tick reported done without it left the timer dead (CI, 2026-11-29: a state
+        machine's spin turned 280 of 180 degrees, a demo never left its first navigation state);
+        rescuing the call after a grace crawled at one call per grace (CI run 15). The executor's
+        own dispatch of a call made here finds the timer a period ahead and is dropped as early.
+
+        A call is made only when the timer's own node clock has reached it. A node clock can lag the
+        participant's /clock by a message (each node's TimeSource has its own /clock subscription);
+        the report then waits for that node's /clock, for OWED_GRACE wall seconds at most, after
+        which the tick counts as done without the call (the simulator re-sends /clock every 0.1 s
+        while it waits, so the grace is checked then).
         """
-        if self._driving:  # the executor has missed a due timer before: make due calls at once
-            timers.run_overdue(clock_ns, self.node.context)
+        timers.run_overdue(clock_ns, self.node.context)
         due = timers.earliest_due_ns(self.node.context)
         if due is None or due > clock_ns:
             self._owed_since = None
@@ -151,22 +155,11 @@ class LockstepParticipant:
         if self._owed_since is None or self._owed_since[0] != due:
             self._owed_since = (due, wall)
         elif wall - self._owed_since[1] > OWED_GRACE:
-            ran = timers.run_overdue(clock_ns, self.node.context)
-            if not ran:  # its node's clock has not reached it: the tick counts as done, as before
-                self.node.get_logger().warning(
-                    f"lockstep: a timer due at sim time {due * 1e-9:.3f} s has not run {OWED_GRACE} s (wall) "
-                    "after its tick and its node's clock lags; reporting the tick done without it",
-                    throttle_duration_sec=10.0)
-                return clock_ns
-            self._owed_since = None
-            if not self._driving:  # once is enough: a grace per tick crawled (CI run 15)
-                self._driving = True
-                self.node.get_logger().warning(
-                    f"lockstep: the executor missed a timer due at sim time {due * 1e-9:.3f} s for "
-                    f"{OWED_GRACE} s (wall); ran it here ({', '.join(ran)}), and from now on this "
-                    "process's due timer calls are made at each tick")
-            left = timers.earliest_due_ns(self.node.context)  # one that ran has its next call ahead
-            return clock_ns if left is None or left > clock_ns else left - 1
+            self.node.get_logger().warning(
+                f"lockstep: a timer due at sim time {due * 1e-9:.3f} s has not run {OWED_GRACE} s (wall) "
+                "after its tick because its node's clock has not reached it; reporting the tick done "
+                "without it", throttle_duration_sec=10.0)
+            return clock_ns
         return due - 1
 
     def hold(self, until: Callable[[], bool], grace: float, wake: Any = None) -> None:

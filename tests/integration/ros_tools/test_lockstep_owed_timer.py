@@ -2,10 +2,11 @@
 
 The report of tick T waits until the process's timers due at or before T have run
 (ros_tools/runtime/timers.py, earliest_due_ns), so the simulator never steps past a cycle still to
-come. A timer whose wake-up the executor missed must not stop the world, nor die: after OWED_GRACE
-wall seconds the participant makes the owed call itself (timers.run_overdue) and the tick is done
-(CI run 6: nav2 stopped reporting and a patrol hung; CI 2026-11-29: a state machine's control loop
-stopped for seconds of sim time).
+come. The participant makes those calls itself on /clock (timers.run_overdue), so a wake-up the
+executor misses neither stops the world nor kills the timer (CI run 6: nav2 stopped reporting and a
+patrol hung; CI 2026-11-29: a state machine's control loop stopped for seconds of sim time). A call
+whose node clock lags is never made ahead of that clock; after OWED_GRACE wall seconds the tick
+counts as done without it.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ def _clock(ns: int) -> Clock:
     return msg
 
 
-def test_a_tick_waits_for_its_due_timer_then_counts_as_done_after_the_grace(
+def test_the_participant_makes_the_due_calls_and_waits_only_for_a_lagging_node_clock(
         ros_context: Any, monkeypatch: pytest.MonkeyPatch) -> None:
     node = Node("owed_probe", context=ros_context)
     participant = LockstepParticipant(node, "owed_probe")
@@ -40,10 +41,13 @@ def test_a_tick_waits_for_its_due_timer_then_counts_as_done_after_the_grace(
                                                             setattr(participant, "_last_report_ns", ns)))
     due = [100 * MS]
     monkeypatch.setattr(lockstep.timers, "earliest_due_ns", lambda _context=None: due[0])
-    rescued: list[int] = []
+    lagging = [True]  # whether the timer's node clock is behind the participant's /clock
+    made: list[int] = []
 
-    def run_overdue(clock_ns: int, _context: Any = None) -> list[str]:  # the owed call, made here
-        rescued.append(clock_ns)
+    def run_overdue(clock_ns: int, _context: Any = None) -> list[str]:  # rcl's view: due by its own clock?
+        if lagging[0] or due[0] > clock_ns:
+            return []
+        made.append(due[0])
         due[0] += 100 * MS
         return ["cycle"]
 
@@ -52,21 +56,22 @@ def test_a_tick_waits_for_its_due_timer_then_counts_as_done_after_the_grace(
     monkeypatch.setattr(lockstep.time, "monotonic", lambda: wall[0])
     try:
         participant._on_clock(_clock(120 * MS))
-        assert reports == [100 * MS - 1]              # up to the owed call, not past it
+        assert reports == [100 * MS - 1]              # up to the call its lagging node owes, not past it
         wall[0] += OWED_GRACE / 2
         participant._on_clock(_clock(120 * MS))       # the simulator's repeated /clock while it waits
         assert reports[-1] == 100 * MS - 1
-        due[0] = 150 * MS                              # the timer ran: its next call lies ahead
+        lagging[0] = False                             # the node's /clock came: the call is due by its clock
         participant._report_withheld()
-        assert reports[-1] == 120 * MS
-        due[0] = 140 * MS                              # the next call is due and never comes
-        participant._on_clock(_clock(160 * MS))
-        assert reports[-1] == 140 * MS - 1
-        assert rescued == []
+        assert made == [100 * MS] and reports[-1] == 120 * MS
+        participant._on_clock(_clock(210 * MS))       # due and its clock is there: made at once, no wait
+        assert made == [100 * MS, 200 * MS] and reports[-1] == 210 * MS
+        lagging[0] = True                              # a node clock that stays behind
+        participant._on_clock(_clock(320 * MS))
+        assert reports[-1] == 300 * MS - 1
         wall[0] += OWED_GRACE + 0.01
-        participant._on_clock(_clock(160 * MS))
-        assert rescued == [160 * MS]                   # the participant made the owed call itself
-        assert reports[-1] == 160 * MS                 # and the world goes on
+        participant._on_clock(_clock(320 * MS))
+        assert made == [100 * MS, 200 * MS]           # never made ahead of its own clock
+        assert reports[-1] == 320 * MS                 # and the world goes on
     finally:
         participant.destroy()
         node.destroy_node()
