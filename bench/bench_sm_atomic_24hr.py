@@ -2,12 +2,11 @@
 
 SMACC2's endurance reference machine (State1 ⇄ State2, each a CbTimerCountdownOnce(500) on a 1 s
 ClRosTimer: 7.2 transitions per hour) runs as the user runs it, ``smacc-run sm_atomic_24hr`` with
-``use_sim_time:=true`` and ``--executor single`` (rclpy's EventsExecutor stalls now and then on a
-/clock that stands still between lockstep steps), in its own process. This process is its clock: a
-``smacc_py.ros.sim_clock.SimClockLeader`` publishes /clock in steps of ``--step`` s (default 0.05 s,
-the runtime's 20 Hz polling period, so every poll and every tick runs at its sim time) and sends the
-next step once the machine reported the last one (lockstep), and it hears the machine's transition
-log. Recorded:
+``use_sim_time:=true`` on the default executor (``--executor single`` to compare), in its own
+process. This process is its clock: a ``smacc_py.ros.sim_clock.SimClockLeader`` publishes /clock in
+steps of ``--step`` s (default 0.05 s, the runtime's 20 Hz polling period, so every poll and every
+tick runs at its sim time) and sends the next step once the machine reported the last one
+(lockstep), and it hears the machine's transition log. Recorded:
 
 * the machine process's resident memory (VmRSS) after the first sim hour and at the end; the end must
   be within 5 % of the first hour (imports, DDS and the first transitions are done by then);
@@ -38,9 +37,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--hours", type=int, default=24, help="sim hours to run (>= 2)")
     parser.add_argument("--step", type=float, default=0.05, help="sim s per /clock step")
-    parser.add_argument("--executor", choices=("events", "single"), default="single",
-                        help="the machine's rclpy executor (smacc-run --executor); events stalls on a "
-                             "paused /clock now and then (see smacc_py/ros/sim_clock.py)")
+    parser.add_argument("--executor", choices=("events", "single"), default="events",
+                        help="the machine's rclpy executor (smacc-run --executor)")
     parser.add_argument("--no-record", action="store_true", help="print only; do not append to RESULTS.md")
     args = parser.parse_args()
     if args.hours < 2:

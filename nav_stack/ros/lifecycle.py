@@ -23,6 +23,7 @@ from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRet
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.timer import Timer
 
+from ros_tools.runtime.clock_timers import ClockTimer
 from ros_tools.runtime.executor import reentrant_default_group
 
 RCLError = _rclpy.RCLError  # what rcl's lifecycle state machine raises for an invalid transition
@@ -66,6 +67,14 @@ class NavLifecycleNode(LifecycleNode):
         return guarded
 
     # -- hooks for subclasses ------------------------------------------------------------------
+    def destroy_timer(self, timer: Any) -> bool:
+        """rclpy's ``destroy_timer``, also for the clock-driven timers of
+        ``ros_tools.runtime.timers.create_periodic_timer`` (sim time), which no executor holds."""
+        if isinstance(timer, ClockTimer):
+            timer.destroy()
+            return True
+        return super().destroy_timer(timer)
+
     def configure(self) -> None:
         """Declare and read parameters, create publishers, services and the core objects."""
 

@@ -13,13 +13,12 @@ Protocol, on topic ``/lockstep/progress`` (std_msgs/Header, reliable, depth 10):
 * ``stamp`` is the newest tick T this process has done: its /clock message has been taken off the
   executor's queue (the executor runs callbacks in arrival order and the simulator sends /clock
   after the data of the same time, so every scan, odometry and TF message stamped up to T has been
-  processed) and every periodic sim-time timer of the process due at or before T has run. The
-  participant makes those calls itself, on /clock T, before it reports
-  (``LockstepParticipant._done_ns``, ros_tools/runtime/timers.py ``run_overdue``). Why: left to the
-  executor, a due timer ran after the report on some runs (its timer manager queues it from its own
-  wake-up) and the simulator stepped on meanwhile (docs/architecture.md, "What repeats"), or never
-  ran at all. A call whose node clock has not reached T yet (each node's TimeSource has its own
-  /clock subscription) withholds the report until that node's /clock has come and the timer ran;
+  processed) and every periodic sim-time timer of the process due at or before T has run. Those
+  timers are called by their node's clock as it reaches T (ros_tools/runtime/clock_timers.py), not
+  by the executor: left to rclpy's EventsExecutor, a due timer ran after the report on some runs and
+  the simulator stepped on meanwhile (docs/architecture.md, "What repeats"), or never ran at all.
+  Each node's clock moves on its own /clock subscription, so a node may not have reached T when the
+  participant hears it: the report then waits for that node's clock, and goes out once its timers ran;
 * a zero ``stamp`` says the participant leaves (the runner sends it at teardown) and no longer
   holds the simulator back.
 
@@ -126,25 +125,17 @@ class LockstepParticipant:
             self._report(done)
 
     def _done_ns(self, clock_ns: int) -> int:
-        """Make the sim-time timer calls due by ``clock_ns``, then return the newest tick (ns) done: one
-        ns before the oldest call a periodic sim-time timer of this process still owes, when that
-        comes earlier.
+        """The newest tick (ns) done, given the newest /clock taken off the queue: one ns before the
+        oldest call a periodic sim-time timer of this process still owes, when that comes earlier.
 
-        Why the participant makes the calls (timers.run_overdue) instead of waiting for the executor
-        to dispatch them: the order within a tick is then fixed (the data stamped up to T, queued
-        before /clock T, then T's timer calls, then the report), and a timer cannot die. rclpy's
-        EventsExecutor does miss sim-time wake-ups at times (it has no support for a ROS clock that
-        jumps; ros2/rclcpp#2457): a report withheld for a call that never came stopped the world
-        (CI run 6); a tick reported done without it left the timer dead (CI, 2026-11-29: a state
-        machine's spin turned 280 of 180 degrees, a demo never left its first navigation state);
-        rescuing the call after a grace crawled at one call per grace (CI run 15). The executor's
-        own dispatch of a call made here finds the timer a period ahead and is dropped as early.
-
-        A call is made only when the timer's own node clock has reached it. A node clock can lag the
-        participant's /clock by a message (each node's TimeSource has its own /clock subscription);
-        the report then waits for that node's /clock, for OWED_GRACE wall seconds at most, after
-        which the tick counts as done without the call (the simulator re-sends /clock every 0.1 s
-        while it waits, so the grace is checked then).
+        Sim-time timers are called by their node's clock (ros_tools/runtime/clock_timers.py), so a
+        call still owed at T means that node's clock has not reached T yet (each node's TimeSource
+        has its own /clock subscription). The report waits for it, OWED_GRACE wall seconds at most;
+        past that the tick counts as done without it and a warning says so (the simulator re-sends
+        /clock every 0.1 s while it waits, so the grace is checked then). A timer the executor runs
+        (one on a clock that is not sim time) whose call is due by its own clock is made here
+        (timers.run_overdue): rclpy's EventsExecutor misses such wake-ups at times, and a report
+        withheld for a call that never came stopped the world (CI run 6).
         """
         timers.run_overdue(clock_ns, self.node.context)
         due = timers.earliest_due_ns(self.node.context)

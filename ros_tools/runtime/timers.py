@@ -1,6 +1,10 @@
 """Periodic timers that run once per period, whatever the executor queues.
 
-Why: rclpy's EventsExecutor (7.1, experimental upstream) queues a timer's "ready" event again
+On sim time (a clock on active ROS time) a periodic timer is a :class:`ClockTimer`, called by its
+clock as /clock moves it and held by no executor (ros_tools/runtime/clock_timers.py says why). On
+any other clock it is an rclpy timer with the guard below.
+
+Why a guard: rclpy's EventsExecutor (7.1, experimental upstream) queues a timer's "ready" event again
 while the first one waits for the executor; rclcpp's EventsExecutor has the same fault
 (ros2/rclcpp#2771, a burst of queued timer events). Every delivery runs the callback, and rcl moves
 the timer's next call one period on each time without checking that the timer was due. Measured
@@ -33,8 +37,10 @@ from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
 
+from ros_tools.runtime.clock_timers import ClockTimer
+
 #: this process's timers on the ROS clock (sim time under /clock): the ones a lockstep tick waits for
-_SIM_TIMERS: weakref.WeakSet[_DueOnly] = weakref.WeakSet()
+_SIM_TIMERS: weakref.WeakSet[_DueOnly | ClockTimer] = weakref.WeakSet()
 #: called after every delivery of such a timer (due or dropped): the lockstep participant's wake-up
 _AFTER_CALL: list[Callable[[], None]] = []
 
@@ -61,8 +67,7 @@ class _DueOnly:
                 f"{self.dropped} so far)", throttle_duration_sec=10.0)
         else:
             self.callback()
-        for hook in list(_AFTER_CALL):
-            hook()
+        _run_after_call_hooks()
 
     def run_missed(self) -> bool:
         """Make the call the executor owes now, as its dispatch would (rcl takes the call, moving the
@@ -104,13 +109,37 @@ class _DueOnly:
 
 def create_periodic_timer(node: Node, period_s: float, callback: Callable[[], None],
                           clock: Clock | None = None) -> Any:
-    """``node.create_timer(period_s, callback, clock=clock)``, with the deliveries that come before
-    their time dropped (see the module docstring). ``callback`` must be a plain function."""
+    """A timer calling ``callback`` every ``period_s`` s of ``clock`` (default: the node's clock).
+
+    On a clock running on active ROS time (sim time), a :class:`ClockTimer` that the clock's jumps
+    call (ros_tools/runtime/clock_timers.py says why no executor does); otherwise
+    ``node.create_timer`` with the deliveries that come before their time dropped (see the module
+    docstring). ``callback`` must be a plain function. End it with :func:`destroy_periodic_timer`
+    (``NavLifecycleNode.destroy_timer`` does) or ``cancel()``.
+    """
+    clock = clock if clock is not None else node.get_clock()
+    if clock.clock_type == ClockType.ROS_TIME and getattr(clock, "ros_time_is_active", False):
+        timer = ClockTimer(node, clock, round(period_s * 1e9), callback, _run_after_call_hooks)
+        _SIM_TIMERS.add(timer)
+        return timer
     due_only = _DueOnly(node, callback)
     due_only.timer = node.create_timer(period_s, due_only, clock=clock)
     if due_only.timer.clock.clock_type == ClockType.ROS_TIME:
         _SIM_TIMERS.add(due_only)
     return due_only.timer
+
+
+def destroy_periodic_timer(node: Node, timer: Any) -> None:
+    """Destroy a timer made by :func:`create_periodic_timer`, whichever kind it is."""
+    if isinstance(timer, ClockTimer):
+        timer.destroy()
+    else:
+        node.destroy_timer(timer)
+
+
+def _run_after_call_hooks() -> None:
+    for hook in list(_AFTER_CALL):
+        hook()
 
 
 def earliest_due_ns(context: Any = None) -> int | None:

@@ -39,7 +39,7 @@ from rclpy.parameter import Parameter
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.executor_watch import ExecutorWatch
 from ros_tools.runtime.lockstep import LockstepParticipant, uses_sim_time
-from ros_tools.runtime.timers import create_periodic_timer
+from ros_tools.runtime.timers import create_periodic_timer, destroy_periodic_timer
 from smacc_py.core import SmaccEngineParams, SmaccError, SmaccStateMachineBase
 from smacc_py.ros.clock_gate import FirstClock
 from smacc_py.ros.context import RosContext, attach_ros_context
@@ -239,7 +239,7 @@ class SmaccRuntime:
     def _stop_machine(self) -> None:
         self._first_clock.close()
         if self._timer is not None:
-            self.node.destroy_timer(self._timer)
+            destroy_periodic_timer(self.node, self._timer)
             self._timer = None
         if self.sm.is_running:
             self.sm.stop()

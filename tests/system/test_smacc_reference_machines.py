@@ -61,9 +61,9 @@ class MachineOnGraph:
         self.node.create_subscription(SmaccTransitionLogEntry, f"/{sm_name}/smacc/transition_log",
                                       self.log.append, LOG)
         self.clock = SimClockLeader(self.node, sm_name, step_s=step_s)
-        # As docs/smacc2-guide.md says. The SingleThreadedExecutor: rclpy's EventsExecutor stalls now and
-        # then on a /clock that stands still between steps (a busy loop, memory growing; see SimClockLeader).
-        command = [*_command("smacc-run", "smacc_py.ros.runner"), machine, "--executor", "single",
+        # As docs/smacc2-guide.md says, on the default executor (a /clock that stands still between steps
+        # once stalled rclpy's EventsExecutor; sim-time timers are now called by the clock).
+        command = [*_command("smacc-run", "smacc_py.ros.runner"), machine,
                    "--ros-args", "-p", "use_sim_time:=true"]
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 

@@ -25,7 +25,7 @@ from collections.abc import Callable, Mapping
 from datetime import timedelta
 from typing import Any
 
-from ros_tools.runtime.timers import create_periodic_timer
+from ros_tools.runtime.timers import create_periodic_timer, destroy_periodic_timer
 from smacc_py.core import EvTimer, ISmaccClient, SmaccClientBehavior, SmaccError
 from smacc_py.core.client import OrthogonalPort
 from smacc_py.ros.components.signal import SmaccSignal
@@ -91,7 +91,7 @@ class ClRos2Timer(ISmaccClient):
     def destroy_timer(self, timer: Any) -> None:
         """Stop and destroy a timer made by ``create_timer``."""
         timer.cancel()
-        ros_context(self.sm).node.destroy_timer(timer)
+        destroy_periodic_timer(ros_context(self.sm).node, timer)
 
 
 def _tick_problem(behavior: str, orthogonal: OrthogonalPort, ticks: int | None) -> str | None:

@@ -77,8 +77,9 @@ def test_the_participant_makes_the_due_calls_and_waits_only_for_a_lagging_node_c
         node.destroy_node()
 
 
-def test_run_overdue_makes_the_owed_call_once_and_moves_the_timer_on(ros_context: Any) -> None:
-    """No executor spins here: the timer's call is due and only run_overdue makes it, as rcl would."""
+def test_a_sim_time_timer_is_called_by_its_clock_and_owes_nothing_after(ros_context: Any) -> None:
+    """No executor spins here: the clock's move to the due slot makes the call, so run_overdue (the
+    participant's rescue for an executor-driven timer) finds nothing left to make."""
     sim_time = [Parameter("use_sim_time", value=True)]
     node = Node("overdue_probe", context=ros_context, parameter_overrides=sim_time)
     clock = node.get_clock()
@@ -90,14 +91,16 @@ def test_run_overdue_makes_the_owed_call_once_and_moves_the_timer_on(ros_context
     clock.set_ros_time_override(Time(nanoseconds=10 * MS, clock_type=clock.clock_type))
     timer = timers.create_periodic_timer(node, 0.1, cycle)
     try:
-        assert timers.run_overdue(60 * MS, ros_context) == []        # not due before 110 ms
+        assert timers.earliest_due_ns(ros_context) == 110 * MS
+        clock.set_ros_time_override(Time(nanoseconds=60 * MS, clock_type=clock.clock_type))
+        assert calls == []                                            # not due before 110 ms
         clock.set_ros_time_override(Time(nanoseconds=110 * MS, clock_type=clock.clock_type))
-        assert timers.run_overdue(110 * MS, ros_context) == ["cycle"]
         assert calls == [110 * MS]
         assert timers.earliest_due_ns(ros_context) == 210 * MS      # one period on, as rcl moves it
         assert timers.run_overdue(110 * MS, ros_context) == []       # made once
         timer.cancel()
         clock.set_ros_time_override(Time(nanoseconds=400 * MS, clock_type=clock.clock_type))
-        assert timers.run_overdue(400 * MS, ros_context) == []       # a canceled timer owes nothing
+        assert calls == [110 * MS]                                    # a canceled timer is not called
+        assert timers.earliest_due_ns(ros_context) is None           # and owes nothing
     finally:
         node.destroy_node()
