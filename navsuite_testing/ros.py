@@ -143,9 +143,7 @@ def release_dds_participants() -> int:
     return len(orphans)
 
 
-def start_python(
-    module_or_script: str | Path, args: Iterable[str] = (), **kwargs: object
-) -> subprocess.Popen[str]:
+def start_python(module_or_script: str | Path, args: Iterable[str] = ()) -> subprocess.Popen[str]:
     """Start ``python -m module`` (or a script path) in a child process with the test's ROS env.
 
     The child inherits ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE from conftest; its stdout
@@ -160,7 +158,6 @@ def start_python(
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
-        **kwargs,  # type: ignore[arg-type]
     )
 
 

@@ -24,6 +24,10 @@ class Pose2D(NamedTuple):
     yaw: float
 
 
+#: The pose of a frame's own origin: the identity of pose composition.
+IDENTITY = Pose2D(0.0, 0.0, 0.0)
+
+
 def normalize_angle(angle: float) -> float:
     """Wrap an angle (rad) to [-π, π)."""
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
@@ -37,6 +41,11 @@ def normalize_angles(angles: FloatArray) -> FloatArray:
 def angle_diff(to: float, frm: float) -> float:
     """Signed shortest rotation (rad) that turns heading ``frm`` into heading ``to``."""
     return normalize_angle(to - frm)
+
+
+def angle_diffs(to: FloatArray | float, frm: FloatArray | float) -> FloatArray:
+    """Element-wise :func:`angle_diff` for arrays (either side may be a scalar), in [-π, π) rad."""
+    return normalize_angles(np.asarray(to, dtype=np.float64) - frm)
 
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:

@@ -21,6 +21,7 @@ from typing import Any
 from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.clock import Clock, ClockType
 
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.localization import Amcl, PoseEstimate
 from nav_stack.core.localization.health import HealthMonitor, HealthParams, LocalizationState, measure
 from nav_stack.ros.amcl_messages import DIAGNOSTICS_TOPIC, health_msg
@@ -44,7 +45,7 @@ class HealthReport:
         """Judge the update that produced ``estimate`` from the scan at ``stamp`` (sim s)."""
         if amcl.last_beams is None:
             return
-        sample = measure(amcl.distance_field, amcl.last_beams, (estimate.x, estimate.y, estimate.yaw),
+        sample = measure(amcl.distance_field, amcl.last_beams, Pose2D(estimate.x, estimate.y, estimate.yaw),
                          estimate.covariance, self.monitor.params.match_distance)
         if self.monitor.update(sample):
             if self.monitor.state is LocalizationState.DEGRADED:

@@ -51,12 +51,14 @@ from sensor_msgs.msg import LaserScan as LaserScanMsg
 from std_srvs.srv import Empty
 
 from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.localization import Amcl, AmclParams, PoseEstimate, map_to_odom
 from nav_stack.core.localization.params import LIKELIHOOD_FIELD_PROB
 from nav_stack.ros.amcl_health import HealthReport
 from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
 from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_seed
 from nav_stack.ros.conversions import grid_from_occupancy, pose_to_2d
+from nav_stack.ros.frames import pose_of
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.node_runner import run as run_nodes
 from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
@@ -75,7 +77,6 @@ WARN_PERIOD = 2.0  # s between repeated warnings, as Nav2
 NO_POSE_WARNING = "AMCL cannot publish a pose or update the transform. Please set the initial pose..."
 #: Scans: sensor-data QoS but only the newest sample is kept (see the module docstring).
 SCAN_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
-Pose = tuple[float, float, float]
 
 
 class AmclNode(NavLifecycleNode):
@@ -88,11 +89,11 @@ class AmclNode(NavLifecycleNode):
         self._seed: int | None = None  # random_seed, re-applied at each initial pose (None: don't)
         self.params = AmclParams()
         self.amcl: Amcl | None = None
-        self._pending_pose: tuple[Pose, np.ndarray | None, str] | None = None
+        self._pending_pose: tuple[Pose2D, np.ndarray | None, str] | None = None
         self._pending_global = False
         self._pending_scan: tuple[LaserScanMsg, float] | None = None
-        self._laser_poses: dict[str, Pose] = {}
-        self._map_to_odom: Pose | None = None
+        self._laser_poses: dict[str, Pose2D] = {}
+        self._map_to_odom: Pose2D | None = None
         self._last_tf_stamp = -math.inf
         self._last_scan_stamp = -math.inf
         self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
@@ -140,7 +141,8 @@ class AmclNode(NavLifecycleNode):
         ]
         self.health = HealthReport(self, self.health_params)
         if p.set_initial_pose:
-            self._initial_pose((p.initial_pose_x, p.initial_pose_y, p.initial_pose_yaw), None, "parameters")
+            self._initial_pose(Pose2D(p.initial_pose_x, p.initial_pose_y, p.initial_pose_yaw), None,
+                               "parameters")
 
     def deactivate(self) -> None:
         for entity in self._active_owned:
@@ -186,9 +188,10 @@ class AmclNode(NavLifecycleNode):
             self._pending_pose = None
             self._initial_pose(pose, cov, source)
         elif p.set_initial_pose and (previous is None or p.always_reset_initial_pose):
-            self._initial_pose((p.initial_pose_x, p.initial_pose_y, p.initial_pose_yaw), None, "parameters")
+            self._initial_pose(Pose2D(p.initial_pose_x, p.initial_pose_y, p.initial_pose_yaw), None,
+                               "parameters")
         elif previous is not None:
-            last = (previous.x, previous.y, previous.yaw)
+            last = Pose2D(previous.x, previous.y, previous.yaw)
             self._initial_pose(last, previous.covariance, "the last estimate")
 
     def _on_initial_pose(self, msg: PoseWithCovarianceStamped) -> None:
@@ -211,11 +214,11 @@ class AmclNode(NavLifecycleNode):
         except ValueError as error:
             self.get_logger().warning(f"Rejected initial pose from {source}: {error}")
             return
-        applied = self._initial_pose((pose.x, pose.y, pose.yaw), covariance_3x3(msg.pose.covariance), source)
+        applied = self._initial_pose(pose, covariance_3x3(msg.pose.covariance), source)
         if applied and self.health is not None:
             self.health.reset(source)
 
-    def _initial_pose(self, pose: Pose, covariance: np.ndarray | None, source: str) -> bool:
+    def _initial_pose(self, pose: Pose2D, covariance: np.ndarray | None, source: str) -> bool:
         """Seed the filter at ``pose``; False when it waits for the map or is rejected."""
         if self.amcl is None:
             self.get_logger().info(f"Initial pose from {source} arrived before the map; "
@@ -263,7 +266,7 @@ class AmclNode(NavLifecycleNode):
             self._pending_timer.cancel()
             return
         try:
-            odom: Pose | None = self._lookup_pose(stamp)
+            odom: Pose2D | None = self._lookup_pose(stamp)
         except ExtrapolationError as error:
             if "future" in str(error) and self._now() - received < SCAN_TF_WAIT:
                 return  # odometry for this stamp may still be on its way
@@ -284,17 +287,17 @@ class AmclNode(NavLifecycleNode):
         """The node clock in s (sim time under use_sim_time)."""
         return float(self.get_clock().now().nanoseconds * 1e-9)
 
-    def _lookup_pose(self, stamp: float | None) -> Pose:
+    def _lookup_pose(self, stamp: float | None) -> Pose2D:
         t = self.tf.lookup(self.params.odom_frame_id, self.params.base_frame_id, stamp)
-        return (t.x, t.y, t.yaw)
+        return pose_of(t)
 
-    def _odom_pose(self, stamp: float | None) -> Pose | None:
+    def _odom_pose(self, stamp: float | None) -> Pose2D | None:
         try:
             return self._lookup_pose(stamp)
         except TransformError:
             return None
 
-    def _laser_pose(self, frame: str) -> Pose | None:
+    def _laser_pose(self, frame: str) -> Pose2D | None:
         frame = frame.lstrip("/")
         if frame not in self._laser_poses:
             try:
@@ -303,10 +306,10 @@ class AmclNode(NavLifecycleNode):
                 self.get_logger().error(f"Couldn't transform from {frame} to {self.params.base_frame_id}: "
                                         f"{error}", throttle_duration_sec=WARN_PERIOD)
                 return None
-            self._laser_poses[frame] = (t.x, t.y, t.yaw)
+            self._laser_poses[frame] = pose_of(t)
         return self._laser_poses[frame]
 
-    def _update(self, msg: LaserScanMsg, stamp: float, odom: Pose, laser: Pose) -> None:
+    def _update(self, msg: LaserScanMsg, stamp: float, odom: Pose2D, laser: Pose2D) -> None:
         assert self.amcl is not None
         ranges = np.asarray(msg.ranges, dtype=np.float64)
         ranges = np.where(np.isposinf(ranges), msg.range_max, ranges)  # REP 117: no return = max range
@@ -325,7 +328,7 @@ class AmclNode(NavLifecycleNode):
             self._send_tf(stamp + self.params.transform_tolerance)
 
     # -- outputs -----------------------------------------------------------------------------------
-    def _publish_estimate(self, stamp: float, odom: Pose | None) -> PoseEstimate | None:
+    def _publish_estimate(self, stamp: float, odom: Pose2D | None) -> PoseEstimate | None:
         """Publish amcl_pose (and map→odom when ``odom`` is known); the estimate, None if not finite."""
         assert self.amcl is not None
         estimate = self.amcl.estimate()
@@ -337,7 +340,7 @@ class AmclNode(NavLifecycleNode):
         self.pose_pub.publish(estimate_msg(estimate.x, estimate.y, estimate.yaw, estimate.covariance,
                                            self.params.global_frame_id, stamp))
         if odom is not None:
-            self._map_to_odom = map_to_odom((estimate.x, estimate.y, estimate.yaw), odom)
+            self._map_to_odom = map_to_odom(Pose2D(estimate.x, estimate.y, estimate.yaw), odom)
             self._send_tf(stamp + self.params.transform_tolerance)
         return estimate
 

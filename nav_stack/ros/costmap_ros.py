@@ -52,7 +52,7 @@ from nav_stack.core.grid import GridSpec
 from nav_stack.ros.conversions import costmap_msg, grid_from_occupancy
 from nav_stack.ros.costmap_params import build_layers, declare_costmap_params
 from nav_stack.ros.costmap_publisher import CostmapPublisher
-from nav_stack.ros.frames import FrameError, Frames
+from nav_stack.ros.frames import FrameError, Frames, pose_of
 from nav_stack.ros.lifecycle import NavLifecycleNode
 from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
 from ros_tools.runtime.timers import create_periodic_timer
@@ -250,7 +250,7 @@ class CostmapROS(NavLifecycleNode):
             with self._lock:
                 for layer in self.costmap.layers:
                     if isinstance(layer, ObstacleLayer):
-                        layer.add_scan(scan, (tf.x, tf.y, tf.yaw))
+                        layer.add_scan(scan, pose_of(tf))
                         self._scan_since_clear = True
         self._pending_scans = keep
 

@@ -12,6 +12,8 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from ros_tools.launch import Launcher, ProcessSpec
+
 READY = r"Nav2 is ready"
 SPAWN = (-2.0, -0.5, 0.0)
 CYCLE_LINE = re.compile(r"cycle (\d+): root (SUCCESS|FAILURE).* in ([0-9.]+) s")
@@ -29,13 +31,17 @@ def bringup_command(rtf: str, extra: Sequence[str] = ()) -> list[str]:
     return [*base, "--rtf", rtf, *extra]
 
 
-def start_stack(rtf: str, extra: Sequence[str] = (), ready_timeout: float = 240.0) -> object:
-    """A ros_tools Launcher running nav-bringup, returned once it printed "Nav2 is ready"."""
-    from ros_tools.launch import Launcher, ProcessSpec
+class RecordingLauncher(Launcher):
+    """A Launcher that keeps every console line in ``lines``, so a test can check the stack's warnings."""
 
-    lines: list[str] = []
-    launcher = Launcher(output=lines.append)
-    launcher.lines = lines  # type: ignore[attr-defined]
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        super().__init__(output=self.lines.append)
+
+
+def start_stack(rtf: str, extra: Sequence[str] = (), ready_timeout: float = 240.0) -> RecordingLauncher:
+    """A launcher running nav-bringup, returned once it printed "Nav2 is ready"."""
+    launcher = RecordingLauncher()
     command = bringup_command(rtf, extra)
     launcher.start([ProcessSpec("nav", command, ready=READY, ready_timeout=ready_timeout)])
     return launcher
@@ -60,8 +66,11 @@ def set_initial_pose(timeout: float = 60.0) -> None:
     got: list[tuple[float, float]] = []
     qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose",
-                             lambda m: got.append((m.pose.pose.position.x, m.pose.pose.position.y)), qos)
+
+    def on_amcl_pose(msg: PoseWithCovarianceStamped) -> None:
+        got.append((msg.pose.pose.position.x, msg.pose.pose.position.y))
+
+    node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", on_amcl_pose, qos)
     pub = node.create_publisher(PoseWithCovarianceStamped, "/initialpose", 10)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)

@@ -35,10 +35,12 @@ from rclpy.node import Node
 from std_msgs.msg import UInt32
 from std_srvs.srv import Empty, Trigger
 
+from nav_stack.core.geometry import angle_diff
 from nav_stack.ros.conversions import pose_from_2d
 from nav_stack.ros.qos import LATCHED
 from navsuite_testing.localization.nodes import MAP_YAML, call
 from navsuite_testing.ros import connected, spin_until, start_python, stop_process
+from ros_tools.geometry import yaw_of
 from ros_tools.runtime.lockstep import LockstepParticipant
 
 START = (-2.0, -0.5, 0.0)
@@ -125,9 +127,9 @@ class TourRun:
     def _on_truth(self, msg: Odometry) -> None:
         if not self._started:  # the localization is not active yet: the robot waits
             return
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        p = msg.pose.pose.position
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-        yaw = 2.0 * math.atan2(q.z, q.w)
+        yaw = yaw_of(msg.pose.pose.orientation)
         distance = 0.0
         if self._truth:
             _, x0, y0, _, d0 = self._truth[-1]
@@ -149,9 +151,8 @@ class TourRun:
         if abs(stamps[j] - t) > 0.05:
             return  # no ground truth at that time (e.g. a pose stamped before the first odometry)
         _, x, y, yaw, distance = self._truth[j]
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        est_yaw = 2.0 * math.atan2(q.z, q.w)
-        error_yaw = abs(math.atan2(math.sin(est_yaw - yaw), math.cos(est_yaw - yaw)))
+        p = msg.pose.pose.position
+        error_yaw = abs(angle_diff(yaw_of(msg.pose.pose.orientation), yaw))
         self.result.samples.append(Sample(t, distance, math.hypot(p.x - x, p.y - y), error_yaw,
                                           math.hypot(p.x + x, p.y + y)))
 
@@ -170,8 +171,7 @@ class TourRun:
                     self._teleport()
                 self._waypoint += 1
             else:
-                heading = math.atan2(gy - y, gx - x) - yaw
-                heading = math.atan2(math.sin(heading), math.cos(heading))
+                heading = angle_diff(math.atan2(gy - y, gx - x), yaw)
                 cmd.angular.z = max(-MAX_W, min(MAX_W, 2.0 * heading))
                 if abs(heading) < 0.15:
                     cmd.linear.x = min(MAX_V, 0.8 * dist + 0.03)
@@ -233,7 +233,11 @@ class TourRun:
             probe.create_subscription(Odometry, "/ground_truth", self._on_truth, 10),
         ]
         counts: list[int] = []
-        probe.create_subscription(UInt32, "/sim2d/collision_count", lambda m: counts.append(m.data), LATCHED)
+
+        def on_collision_count(msg: UInt32) -> None:
+            counts.append(msg.data)
+
+        probe.create_subscription(UInt32, "/sim2d/collision_count", on_collision_count, LATCHED)
         # The sim holds at t = 0 for the driver (and AMCL) until the driver is connected and the
         # localization is active: no amcl_pose or ground truth is missed while DDS discovery is still
         # matching them, and the tour starts at the same sim time however long the startup took.

@@ -10,7 +10,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 import subprocess
 import tempfile
@@ -30,6 +29,7 @@ from std_srvs.srv import Empty
 from nav_stack.core.map_io import load_map
 from nav_stack.ros.conversions import occupancy_msg
 from navsuite_testing.ros import REPO, start_python, stop_process, wait_until
+from ros_tools.geometry import yaw_of
 from ros_tools.runtime.actions import send_until_acknowledged
 from ros_tools.runtime.executor import make_executor
 from ros_tools.runtime.requests import call_until_answered
@@ -133,8 +133,8 @@ class WorldNode(Node):
     def pose(self) -> tuple[float, float, float]:
         """Ground-truth (x, y, yaw) in the map frame."""
         assert self.truth is not None, "no ground truth received yet"
-        p, q = self.truth.pose.pose.position, self.truth.pose.pose.orientation
-        return p.x, p.y, 2.0 * math.atan2(q.z, q.w)
+        p = self.truth.pose.pose.position
+        return p.x, p.y, yaw_of(self.truth.pose.pose.orientation)
 
     def call(self, client: Any, request: Any, timeout: float = 10.0) -> Any:
         wait_until(client.service_is_ready, timeout, f"service {client.srv_name}")

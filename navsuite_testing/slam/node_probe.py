@@ -8,6 +8,7 @@ scan): both need every scan processed in order, so each step waits for the node'
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -60,7 +61,9 @@ def drive(robot: FakeRobot, probe: Probe, poses: list[Any], slam: SlamNode) -> N
     def node_has_odometry(t: float) -> None:
         wait_until(lambda: has_odometry(t), 10.0, f"the slam node's odometry TF at {t:.1f} s")
 
+    def has_pose_of_scan(t: float) -> bool:
+        return any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:])
+
     for pose in poses:
         t = robot.step(pose, before_scan=node_has_odometry)
-        wait_until(lambda t=t: any(abs(s - t) < 1e-6 for s in probe.stamps()[-3:]), 10.0,
-                   f"slam/pose of the scan at {t:.1f} s")
+        wait_until(functools.partial(has_pose_of_scan, t), 10.0, f"slam/pose of the scan at {t:.1f} s")

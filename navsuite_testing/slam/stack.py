@@ -110,13 +110,20 @@ def explore(map_file: Path, max_time: float, timeout: float) -> subprocess.Compl
         return subprocess.CompletedProcess(command, -9, stdout, f"{stderr}\nkilled after {timeout:.0f} s")
 
 
+def _fields(pattern: str, line: str) -> tuple[str, ...]:
+    """The groups ``pattern`` captures in ``line``; a ValueError naming both when it does not match."""
+    match = re.search(pattern, line)
+    if match is None:
+        raise ValueError(f"no {pattern!r} in nav-explore's progress line {line!r}")
+    return match.groups()
+
+
 def progress_numbers(stdout: str) -> dict[str, float]:
     """Goals, reached, failed, mapped m² and sim s from nav-explore's last progress line."""
     line = [x for x in stdout.splitlines() if x.startswith("explore:") and "sim s" in x][-1]
-    goals, reached, failed = (int(v) for v in re.search(r"goals (\d+) \(reached (\d+), failed (\d+)\)",
-                                                       line).groups())
-    mapped = float(re.search(r"mapped ([\d.]+) m2", line).group(1))
-    elapsed = float(re.search(r"\| ([\d.]+) sim s", line).group(1))
+    goals, reached, failed = (int(v) for v in _fields(r"goals (\d+) \(reached (\d+), failed (\d+)\)", line))
+    mapped = float(_fields(r"mapped ([\d.]+) m2", line)[0])
+    elapsed = float(_fields(r"\| ([\d.]+) sim s", line)[0])
     return {"goals": goals, "reached": reached, "failed": failed, "mapped": mapped, "sim_s": elapsed}
 
 

@@ -41,8 +41,7 @@ class Probe:
         self.contacts: list[str] = []  # where each new collision happened, for the failure message
         self.node.create_subscription(Odometry, "/ground_truth", self._on_truth, 10)
         self.node.create_subscription(PoseWithCovarianceStamped, "/slam/pose", self._on_pose, LATCHED)
-        self.node.create_subscription(UInt32, "/sim2d/collision_count",
-                                      lambda m: self.collisions.append(m.data), LATCHED)
+        self.node.create_subscription(UInt32, "/sim2d/collision_count", self._on_collision_count, LATCHED)
         self.node.create_subscription(PointStamped, "/sim2d/collisions", self._on_contact, 10)
         self.amcl_poses: list[PoseWithCovarianceStamped] = []
         self.node.create_subscription(PoseWithCovarianceStamped, "/amcl_pose", self.amcl_poses.append,
@@ -74,6 +73,9 @@ class Probe:
                 k = (stamp - t0) / (t1 - t0) if t1 > t0 else 0.0
                 return x0 + k * (x1 - x0), y0 + k * (y1 - y0)
         return None
+
+    def _on_collision_count(self, msg: UInt32) -> None:
+        self.collisions.append(msg.data)
 
     def _on_contact(self, msg: PointStamped) -> None:
         robot = "unknown" if self.truth is None else f"({self.truth[1]:.2f}, {self.truth[2]:.2f})"

@@ -99,8 +99,7 @@ class World:
         """
         gx, gy = self._centres(spec)
         open_ = self._surface_distance(gx, gy) > clearance
-        s = tuple(int(v) for v in spec.world_to_cell(start.x, start.y))[::-1]
-        g = tuple(int(v) for v in spec.world_to_cell(goal.x, goal.y))[::-1]
+        s, g = _row_col(spec, start), _row_col(spec, goal)
         if strict and not (0 <= g[0] < spec.height and 0 <= g[1] < spec.width and open_[g]):
             return []
         open_[s] = open_[g] = True
@@ -146,6 +145,12 @@ class World:
         for cx, cy, r in self.circles:
             inside |= np.hypot(gx - cx, gy - cy) < r
         return inside
+
+
+def _row_col(spec: GridSpec, pose: Pose2D) -> tuple[int, int]:
+    """The (row, column) index of the cell holding ``pose``, the order a numpy grid is indexed in."""
+    mx, my = spec.world_to_cell(pose.x, pose.y)
+    return int(my), int(mx)
 
 
 def _flood(open_: np.ndarray, r0: int, c0: int) -> np.ndarray:

@@ -18,13 +18,9 @@ from pathlib import Path
 from typing import Any
 
 from ros_tools.bag.reader import BagReader
-from ros_tools.report.analysis import yaw_from_quaternion
+from ros_tools.geometry import yaw_of
 
 DEFAULT_TOPICS = ("/odom", "/ground_truth", "/cmd_vel", "/amcl_pose", "/scan", "/plan", "/local_plan")
-
-
-def _yaw(q: Any) -> float:
-    return yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
 def values(msg: Any) -> tuple[float, ...]:
@@ -32,10 +28,10 @@ def values(msg: Any) -> tuple[float, ...]:
     kind = type(msg).__name__
     if kind == "Odometry":
         p, t = msg.pose.pose, msg.twist.twist
-        return (p.position.x, p.position.y, _yaw(p.orientation), t.linear.x, t.angular.z)
+        return (p.position.x, p.position.y, yaw_of(p.orientation), t.linear.x, t.angular.z)
     if kind == "PoseWithCovarianceStamped":
         p = msg.pose.pose
-        return (p.position.x, p.position.y, _yaw(p.orientation))
+        return (p.position.x, p.position.y, yaw_of(p.orientation))
     if kind in ("Twist", "TwistStamped"):
         t = msg.twist if kind == "TwistStamped" else msg
         return (t.linear.x, t.angular.z)

@@ -46,11 +46,6 @@ class Segment:
     tag: str
 
 
-def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
-    """Heading (rad) of a quaternion: rotation about z (the 2D part of the orientation)."""
-    return float(np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)))
-
-
 def make_trajectory(t: Sequence[float], xy: Sequence[Sequence[float]], yaw: Sequence[float]) -> Trajectory:
     """Build a trajectory from lists, sorted by time."""
     times = np.asarray(t, dtype=float)

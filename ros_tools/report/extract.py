@@ -18,7 +18,8 @@ import numpy as np
 from rclpy.serialization import deserialize_message
 
 from ros_tools.bag.reader import BagMessage, BagReader
-from ros_tools.report.analysis import Trajectory, Transition, make_trajectory, yaw_from_quaternion
+from ros_tools.geometry import yaw_of
+from ros_tools.report.analysis import Trajectory, Transition, make_trajectory
 from ros_tools.types import import_type
 
 _TRANSITION_SUFFIX = "/smacc/transition_log"
@@ -70,10 +71,6 @@ def _stamp(stamp: Any) -> float:
     return float(stamp.sec) + float(stamp.nanosec) * 1e-9
 
 
-def _yaw(orientation: Any) -> float:
-    return yaw_from_quaternion(orientation.x, orientation.y, orientation.z, orientation.w)
-
-
 def _topics(reader: BagReader, type_name: str, suffix: str) -> list[str]:
     return [name for name, info in reader.topics.items()
             if info.type == type_name and (name == suffix or name.endswith("/" + suffix.lstrip("/")))]
@@ -83,7 +80,7 @@ def _grid(msg: Any) -> GridMap:
     info = msg.info
     data = np.asarray(msg.data, dtype=np.int8).reshape(info.height, info.width)
     origin = info.origin
-    pose = (origin.position.x, origin.position.y, _yaw(origin.orientation))
+    pose = (origin.position.x, origin.position.y, yaw_of(origin.orientation))
     return GridMap(data, float(info.resolution), pose)
 
 
@@ -98,7 +95,7 @@ def _poses(reader: BagReader, topics: list[str]) -> Trajectory | None:
         pose = msg.pose.pose
         t.append(_stamp(msg.header.stamp))
         xy.append((pose.position.x, pose.position.y))
-        yaw.append(_yaw(pose.orientation))
+        yaw.append(yaw_of(pose.orientation))
     return make_trajectory(t, xy, yaw) if t else None
 
 
@@ -125,7 +122,7 @@ def load_run(path: str | Path) -> RunData:
             if msg.poses:
                 run.plans.append(np.array([(p.pose.position.x, p.pose.position.y) for p in msg.poses]))
         goal_topics = _topics(reader, "geometry_msgs/msg/PoseStamped", "goal_pose")
-        goals = [(p.pose.position.x, p.pose.position.y, _yaw(p.pose.orientation))
+        goals = [(p.pose.position.x, p.pose.position.y, yaw_of(p.pose.orientation))
                  for _item, p in reader.decoded(goal_topics)]
         run.goals = np.array(goals).reshape(-1, 3)
         hit_topics = _topics(reader, "geometry_msgs/msg/PointStamped", "collisions")

@@ -32,13 +32,14 @@ Usage: ``python -m ros_tools.scenarios.goal_driver '[[x, y, yaw], ...]' [--wait-
 from __future__ import annotations
 
 import json
-import math
 import os
 import signal
 import sys
 import time
 from collections.abc import Sequence
 from typing import Any
+
+from ros_tools.geometry import set_yaw
 
 ROLE = "scenario_goals"
 WAIT_FOR_LIMIT = 20.0  # wall s the driver waits for a subscriber of its --wait-for topic
@@ -80,7 +81,7 @@ def build_node(goals: list[tuple[float, float, float]], exit_code: list[int],
             pose = PoseStamped()
             pose.header.frame_id = "map"
             pose.pose.position.x, pose.pose.position.y = x, y
-            pose.pose.orientation.z, pose.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+            set_yaw(pose.pose.orientation, yaw)
             for attempt in range(retries + 1):
                 status, lost = await send(index, NavigateToPose.Goal(pose=pose))
                 if lost is None or attempt == retries or not await respawned(lost):

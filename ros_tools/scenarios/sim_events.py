@@ -23,6 +23,8 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from ros_tools.geometry import set_yaw
+
 TELEPORT_TOPIC = "/sim2d/teleport"
 LIDAR_DROPOUT_TOPIC = "/sim2d/lidar_dropout"
 SPAWN_OBSTACLE_TOPIC = "/sim2d/spawn_obstacle"
@@ -88,7 +90,7 @@ def sim_applier(node: Any, kind: str, qos: Any, steady: Any) -> Applier:
             x, y, yaw = numbers
             msg = PoseStamped()
             msg.pose.position.x, msg.pose.position.y = x, y
-            msg.pose.orientation.z, msg.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+            set_yaw(msg.pose.orientation, yaw)
             msg.header.frame_id, msg.header.stamp = "map", stamp
             publisher.publish(msg)
         else:

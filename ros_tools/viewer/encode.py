@@ -25,11 +25,6 @@ IDENTITY: Planar = (0.0, 0.0, 0.0)
 FloatArray = npt.NDArray[np.float64]
 
 
-def yaw_from_quaternion(qx: float, qy: float, qz: float, qw: float) -> float:
-    """Rotation about +z (rad) of a quaternion; exact for planar rotations."""
-    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-
-
 def finite_or_none(value: float) -> float | None:
     """JSON has no NaN/inf: unknown values (BatteryState uses NaN) become null."""
     return value if math.isfinite(value) else None

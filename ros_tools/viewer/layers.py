@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ros_tools.geometry import yaw_of
 from ros_tools.tf.buffer import ExtrapolationError, TransformBuffer
 from ros_tools.viewer import encode
 from ros_tools.viewer.encode import Planar
@@ -58,8 +59,7 @@ class DisplayFrames:
 
 
 def _xyyaw(pose: Any) -> tuple[float, float, float]:
-    q = pose.orientation
-    return (pose.position.x, pose.position.y, encode.yaw_from_quaternion(q.x, q.y, q.z, q.w))
+    return (pose.position.x, pose.position.y, yaw_of(pose.orientation))
 
 
 def _pose_array(poses: Sequence[Any]) -> np.ndarray:

@@ -18,7 +18,6 @@ Event topics (transitions, behavior tree logs) are folded into monitors so no ev
 from __future__ import annotations
 
 import functools
-import math
 import re
 from collections.abc import Callable
 from typing import Any
@@ -29,6 +28,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from ros_tools.geometry import set_yaw
 from ros_tools.tf.ros import TransformListener
 from ros_tools.types import import_type
 from ros_tools.viewer import layers
@@ -228,7 +228,7 @@ class ViewerNode(Node):
         msg.header.frame_id = self.params.frame
         msg.header.stamp = self.get_clock().now().to_msg()
         pose.position.x, pose.position.y = float(x), float(y)
-        pose.orientation.z, pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+        set_yaw(pose.orientation, yaw)
 
 
 def _transition(t: Any, state: str) -> TransitionInfo:

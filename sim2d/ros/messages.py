@@ -20,6 +20,7 @@ from sensor_msgs.msg import BatteryState, LaserScan
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker
 
+from ros_tools.geometry import set_yaw
 from sim2d.core.battery import Battery
 from sim2d.core.disturbances import DroppedObstacle
 from sim2d.core.dock_detection import TagDetection
@@ -37,11 +38,6 @@ _UNKNOWN = 1e6  # covariance of unobserved dimensions (z, roll, pitch), as gz an
 def stamp(time_ns: int) -> Time:
     """A builtin_interfaces/Time from sim time (ns)."""
     return Time(sec=time_ns // 1_000_000_000, nanosec=time_ns % 1_000_000_000)
-
-
-def _set_yaw(orientation: object, yaw: float) -> None:
-    orientation.z = math.sin(0.5 * yaw)  # type: ignore[attr-defined]
-    orientation.w = math.cos(0.5 * yaw)  # type: ignore[attr-defined]
 
 
 def clock(time_ns: int) -> Clock:
@@ -65,7 +61,7 @@ class OdometryBuilder:
         msg = self.msg
         msg.header.stamp = stamp(time_ns)
         msg.pose.pose.position.x, msg.pose.pose.position.y = pose.x, pose.y
-        _set_yaw(msg.pose.pose.orientation, pose.yaw)
+        set_yaw(msg.pose.pose.orientation, pose.yaw)
         cov = self._pose_cov
         cov[0] = cov[7] = max(var_xy, 1e-6)
         cov[14] = cov[21] = cov[28] = _UNKNOWN
@@ -89,7 +85,7 @@ class TfBuilder:
         t = self.transform
         t.header.stamp = stamp(time_ns)
         t.transform.translation.x, t.transform.translation.y = pose.x, pose.y
-        _set_yaw(t.transform.rotation, pose.yaw)
+        set_yaw(t.transform.rotation, pose.yaw)
         self.msg.transforms = [t]
         return self.msg
 
@@ -104,7 +100,7 @@ def static_transforms(robot: RobotModel, time_ns: int) -> TFMessage:
         t.header.stamp = stamp(time_ns)
         t.header.frame_id, t.child_frame_id = parent, child
         t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-        _set_yaw(t.transform.rotation, yaw)
+        set_yaw(t.transform.rotation, yaw)
         transforms.append(t)
     return TFMessage(transforms=transforms)
 

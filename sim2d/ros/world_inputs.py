@@ -34,6 +34,7 @@ from rclpy.qos import QoSProfile
 from std_msgs.msg import Float64
 from visualization_msgs.msg import Marker
 
+from ros_tools.geometry import yaw_of
 from sim2d.core.disturbances import DroppedObstacle
 from sim2d.core.fleet import Fleet
 from sim2d.core.robot import Pose2D
@@ -100,9 +101,7 @@ class WorldInputs:
         if msg.header.frame_id not in ("", messages.MAP_FRAME):
             logger.warning(f"sim2d: {self.label}teleport ignored: frame {msg.header.frame_id!r} is not 'map'")
             return
-        q = msg.pose.orientation
-        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-        pose = Pose2D(msg.pose.position.x, msg.pose.position.y, yaw)
+        pose = Pose2D(msg.pose.position.x, msg.pose.position.y, yaw_of(msg.pose.orientation))
         if not self.sim.teleport(pose):
             logger.warning(f"sim2d: {self.label}teleport to {pose} refused: footprint overlaps an obstacle")
 

@@ -26,8 +26,9 @@ import numpy.typing as npt
 
 from nav_stack.core.costmap.distance import squared_distance_cells
 from nav_stack.core.costmap.footprint import Footprint
-from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window
+from nav_stack.core.costmap.layer import CostArray, Layer, Window
 from nav_stack.core.costmap.params import InflationLayerParams
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import (
     INSCRIBED_INFLATED_OBSTACLE,
     LETHAL_OBSTACLE,

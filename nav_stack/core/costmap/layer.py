@@ -15,10 +15,10 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.costmap.footprint import Footprint
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
 
 CostArray = npt.NDArray[np.uint8]
-Pose2D = tuple[float, float, float]
 
 
 @dataclass(frozen=True)

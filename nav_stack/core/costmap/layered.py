@@ -19,9 +19,10 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.costmap.footprint import Footprint
-from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window, shifted
+from nav_stack.core.costmap.layer import CostArray, Layer, Window, shifted
 from nav_stack.core.costmap.params import CostmapParams
 from nav_stack.core.costmap.static_layer import StaticLayer
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import FREE_SPACE, NO_INFORMATION, GridSpec
 
 

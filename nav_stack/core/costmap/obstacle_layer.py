@@ -22,10 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from nav_stack.core.costmap.footprint import Footprint
-from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window, shifted
+from nav_stack.core.costmap.layer import CostArray, Layer, Window, shifted
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.costmap.params import CostmapParams, ObstacleLayerParams
 from nav_stack.core.costmap.raytrace import ClearRays
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
 
 

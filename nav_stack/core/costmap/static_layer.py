@@ -14,8 +14,9 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from nav_stack.core.costmap.layer import CostArray, Layer, Pose2D, Window
+from nav_stack.core.costmap.layer import CostArray, Layer, Window
 from nav_stack.core.costmap.params import CostmapParams, StaticLayerParams
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION, GridSpec
 
 

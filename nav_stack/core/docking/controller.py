@@ -87,15 +87,15 @@ class DockingController:
                 break
         return poses
 
-    def collision(self, target: Pose2D, robot: Pose2D, obstacles: Obstacles | None, is_docking: bool,
+    def collision(self, target: Pose2D, robot: Pose2D, obstacles: Obstacles, is_docking: bool,
                   backward: bool) -> Pose2D | None:
         """The first colliding roll-out pose (in the costmap frame), or None.
 
-        ``robot`` is the robot pose in ``obstacles.frame``; without obstacles (no costmap yet) or with
-        ``use_collision_detection`` false nothing collides.
+        ``robot`` is the robot pose in ``obstacles.frame``; with ``use_collision_detection`` false
+        nothing collides.
         """
         p = self.params
-        if obstacles is None or not p.use_collision_detection:
+        if not p.use_collision_detection:
             return None
         poses = self.rollout(target, backward)
         checked = [q for q in poses
@@ -112,19 +112,16 @@ class DockingController:
                 backward: bool) -> Twist2D:
         """The law's command towards ``target`` (robot frame); ``robot`` in the costmap frame.
 
+        Without ``obstacles`` (DockingWorld.obstacles: no local costmap received yet) the roll-out
+        cannot be checked, and the command is given unchecked, as with ``use_collision_detection`` off.
+
         Raises:
             FailedToControl: the roll-out collides.
         """
-        hit = self.collision(target, robot, obstacles, is_docking, backward)
-        if hit is not None:
-            assert obstacles is not None, "only a costmap makes a collision"
-            goal = compose(robot, target)
-            (x, y), cost = blocking_cell(obstacles, hit)
-            raise FailedToControl(f"collision ahead: the {'docking' if is_docking else 'undocking'} motion "
-                                  f"from ({robot.x:.2f}, {robot.y:.2f}, {robot.yaw:.2f}) towards "
-                                  f"({goal.x:.2f}, {goal.y:.2f}) would hit an obstacle: the costmap cell at "
-                                  f"({x:.2f}, {y:.2f}) (cost {cost}) under the robot at ({hit.x:.2f}, "
-                                  f"{hit.y:.2f}, {hit.yaw:.2f}) in '{obstacles.frame}'")
+        if obstacles is not None:
+            hit = self.collision(target, robot, obstacles, is_docking, backward)
+            if hit is not None:
+                raise collision_failure(obstacles, hit, robot, compose(robot, target), is_docking)
         return velocity_command(target, Pose2D(0.0, 0.0, 0.0), self.params, backward)
 
     def command_to_pose(self, robot: Pose2D, pose: Pose2D, linear_tolerance: float, angular_tolerance: float,
@@ -136,6 +133,18 @@ class DockingController:
                 and abs(angle_diff(pose.yaw, robot.yaw)) < angular_tolerance):
             return None
         return self.command(relative(pose, robot), robot_in_costmap, obstacles, is_docking, backward)
+
+
+def collision_failure(obstacles: Obstacles, hit: Pose2D, robot: Pose2D, goal: Pose2D,
+                      is_docking: bool) -> FailedToControl:
+    """The error of a roll-out from ``robot`` towards ``goal`` that collides at ``hit`` (all in the
+    costmap frame): it names the blocking cell and its cost, for the action's error_msg."""
+    (x, y), cost = blocking_cell(obstacles, hit)
+    return FailedToControl(f"collision ahead: the {'docking' if is_docking else 'undocking'} motion "
+                           f"from ({robot.x:.2f}, {robot.y:.2f}, {robot.yaw:.2f}) towards "
+                           f"({goal.x:.2f}, {goal.y:.2f}) would hit an obstacle: the costmap cell at "
+                           f"({x:.2f}, {y:.2f}) (cost {cost}) under the robot at ({hit.x:.2f}, "
+                           f"{hit.y:.2f}, {hit.yaw:.2f}) in '{obstacles.frame}'")
 
 
 def blocking_cell(obstacles: Obstacles, pose: Pose2D) -> tuple[tuple[float, float], int]:

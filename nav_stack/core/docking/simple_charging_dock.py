@@ -34,8 +34,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from nav_stack.core.docking.errors import FrameUnavailable
-from nav_stack.core.docking.spatial import Pose3D, Quaternion, about_axis, heading, multiply, slerp
-from nav_stack.core.geometry import Pose2D, normalize_angle
+from nav_stack.core.docking.spatial import Pose3D, Quaternion, about_axis, multiply, slerp
+from nav_stack.core.geometry import Pose2D, normalize_angle, yaw_or_nan
 
 #: s a detection may wait for its transform (Nav2's canTransform timeout); meanwhile the last refined
 #: pose stands. Nav2 blocks for it; a timer callback cannot, so the next cycle tries again.
@@ -108,7 +108,7 @@ class Detection:
 
 def dock_pose_from_tag(tag: Pose3D, params: SimpleChargingDockParams) -> Pose2D:
     """The dock pose from a tag pose in the same frame (steps 1 and 2 of the module docstring)."""
-    yaw = heading(multiply(tag.orientation, params.offset_rotation()))
+    yaw = yaw_or_nan(*multiply(tag.orientation, params.offset_rotation()))
     tx, ty = params.external_detection_translation_x, params.external_detection_translation_y
     return Pose2D(tag.x + math.cos(yaw) * tx - math.sin(yaw) * ty,
                   tag.y + math.sin(yaw) * tx + math.cos(yaw) * ty, yaw)

@@ -69,12 +69,6 @@ def rotate(q: Quaternion, v: tuple[float, float, float]) -> tuple[float, float, 
     return (x, y, z)
 
 
-def heading(q: Quaternion) -> float:
-    """Yaw (rad) of a rotation: the heading of its x axis projected on the ground plane."""
-    x, y, z, w = q
-    return math.atan2(2.0 * (x * y + w * z), w * w + x * x - y * y - z * z)
-
-
 def slerp(a: Quaternion, b: Quaternion, t: float) -> Quaternion:
     """Spherical interpolation from ``a`` (t = 0) to ``b`` (t = 1), the short way round."""
     dot = sum(p * q for p, q in zip(a, b, strict=True))

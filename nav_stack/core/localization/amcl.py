@@ -29,11 +29,12 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import IDENTITY, Pose2D, angle_diff, normalize_angles
 from nav_stack.core.grid import FloatArray, GridSpec
 from nav_stack.core.localization.clusters import PoseEstimate, estimate_pose
 from nav_stack.core.localization.kld import bin_keys, kld_sample_count
 from nav_stack.core.localization.likelihood_field_prob import LikelihoodFieldProbModel, ScanWeights
-from nav_stack.core.localization.motion_model import angle_diff, sample_motion, wrap
+from nav_stack.core.localization.motion_model import sample_motion
 from nav_stack.core.localization.params import BEAM, LIKELIHOOD_FIELD_PROB, AmclParams
 from nav_stack.core.localization.sensor_model import (
     BeamModel,
@@ -44,7 +45,6 @@ from nav_stack.core.localization.sensor_model import (
 )
 from nav_stack.core.localization.weighting import FitAverages, reweight
 
-Pose2D = tuple[float, float, float]
 DEFAULT_INITIAL_COVARIANCE = np.diag([0.5**2, 0.5**2, (math.pi / 12.0) ** 2])
 CONVERGED_DISTANCE = 0.5  # m, nav2 pf dist_threshold
 
@@ -63,7 +63,7 @@ def map_to_odom(map_to_base: Pose2D, odom_to_base: Pose2D) -> Pose2D:
     ox, oy, oyaw = odom_to_base
     yaw = angle_diff(myaw, oyaw)
     c, s = math.cos(yaw), math.sin(yaw)
-    return (mx - (c * ox - s * oy), my - (s * ox + c * oy), yaw)
+    return Pose2D(mx - (c * ox - s * oy), my - (s * ox + c * oy), yaw)
 
 
 def low_variance_indices(weights: FloatArray, count: int, rng: np.random.Generator) -> npt.NDArray[np.int64]:
@@ -149,7 +149,7 @@ class Amcl:
         n = self.params.max_particles
         noise = self.rng.standard_normal((n, 3)) * np.sqrt(np.maximum(eigval, 0.0))
         particles = np.array([x, y, yaw]) + noise @ eigvec.T
-        particles[:, 2] = wrap(particles[:, 2])
+        particles[:, 2] = normalize_angles(particles[:, 2])
         self._reset(particles)
 
     def random_free_poses(self, count: int) -> FloatArray:
@@ -174,7 +174,7 @@ class Amcl:
         self._force_update = True
 
     def update(
-        self, odom_pose: Pose2D, scan: LaserScan, laser_pose: Pose2D = (0.0, 0.0, 0.0)
+        self, odom_pose: Pose2D, scan: LaserScan, laser_pose: Pose2D = IDENTITY
     ) -> UpdateResult:
         """Process one scan taken at odometry pose ``odom_pose``; ``laser_pose``: laser in the base frame."""
         if not self.initialized:

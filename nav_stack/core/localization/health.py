@@ -32,10 +32,9 @@ from enum import Enum
 
 import numpy as np
 
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import FloatArray
 from nav_stack.core.localization.sensor_model import Beams, DistanceField
-
-Pose2D = tuple[float, float, float]
 
 
 class LocalizationState(Enum):

@@ -20,21 +20,9 @@ import math
 
 import numpy as np
 
+from nav_stack.core.geometry import Pose2D, angle_diff, normalize_angles
 from nav_stack.core.grid import FloatArray
 from nav_stack.core.localization.params import OMNI
-
-Pose2D = tuple[float, float, float]
-
-
-def angle_diff(a: float, b: float) -> float:
-    """Smallest signed angle a − b, in [−π, π]."""
-    return math.atan2(math.sin(a - b), math.cos(a - b))
-
-
-def wrap(angles: FloatArray) -> FloatArray:
-    """Angles wrapped to [−π, π)."""
-    wrapped: FloatArray = np.mod(angles + math.pi, 2.0 * math.pi) - math.pi
-    return wrapped
 
 
 def sample_differential(particles: FloatArray, old: Pose2D, new: Pose2D, alphas: tuple[float, ...],
@@ -55,7 +43,7 @@ def sample_differential(particles: FloatArray, old: Pose2D, new: Pose2D, alphas:
     heading = particles[:, 2] + rot1_hat
     particles[:, 0] += trans_hat * np.cos(heading)
     particles[:, 1] += trans_hat * np.sin(heading)
-    particles[:, 2] = wrap(heading + rot2_hat)
+    particles[:, 2] = normalize_angles(heading + rot2_hat)
 
 
 def sample_omni(particles: FloatArray, old: Pose2D, new: Pose2D, alphas: tuple[float, ...],
@@ -74,7 +62,7 @@ def sample_omni(particles: FloatArray, old: Pose2D, new: Pose2D, alphas: tuple[f
     cs, sn = np.cos(bearing), np.sin(bearing)
     particles[:, 0] += trans_hat * cs + strafe_hat * sn
     particles[:, 1] += trans_hat * sn - strafe_hat * cs
-    particles[:, 2] = wrap(particles[:, 2] + rot_hat)
+    particles[:, 2] = normalize_angles(particles[:, 2] + rot_hat)
 
 
 def sample_motion(model: str, particles: FloatArray, old: Pose2D, new: Pose2D, alphas: tuple[float, ...],

@@ -28,10 +28,10 @@ import numpy.typing as npt
 
 from nav_stack.core.costmap.distance import squared_distance_cells
 from nav_stack.core.costmap.observation import LaserScan
+from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import FloatArray, GridSpec
 from nav_stack.core.localization.params import LIKELIHOOD_FIELD_PROB, AmclParams
 
-Pose2D = tuple[float, float, float]
 F32 = npt.NDArray[np.float32]
 FloatTable = npt.NDArray[np.floating[Any]]
 _TINY = 1e-300  # floor of pz, so log pz stays finite when z_rand = 0

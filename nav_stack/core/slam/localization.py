@@ -26,13 +26,13 @@ from collections import deque
 import numpy as np
 
 from nav_stack.core.costmap.observation import LaserScan
-from nav_stack.core.geometry import FloatArray, Pose2D, compose
+from nav_stack.core.geometry import IDENTITY, FloatArray, Pose2D, compose
 from nav_stack.core.slam.correlation import MatchResult
 from nav_stack.core.slam.laser import ScanPoints, joined_returns, scan_points, to_map
 from nav_stack.core.slam.mapper import GridSlam
 from nav_stack.core.slam.params import SlamParams
 from nav_stack.core.slam.serialization import SlamGraph
-from nav_stack.core.slam.shared import IDENTITY, SlamUpdate, check_inputs, due, inverse, match_scan
+from nav_stack.core.slam.shared import SlamUpdate, check_inputs, due, inverse, match_scan
 
 # A match weaker than this (mean smear, 0..1) keeps the odometry prediction (as in mapping).
 _MIN_RESPONSE = 0.1

@@ -30,7 +30,7 @@ import numpy as np
 import numpy.typing as npt
 
 from nav_stack.core.costmap.observation import LaserScan
-from nav_stack.core.geometry import FloatArray, Pose2D, compose
+from nav_stack.core.geometry import IDENTITY, FloatArray, Pose2D, compose
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import integrate_jit, pose_graph_jit
 from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow
@@ -42,7 +42,6 @@ from nav_stack.core.slam.pose_graph import Edge, optimize
 from nav_stack.core.slam.rerender import RERENDER_SLICE_NODES, Rerender
 from nav_stack.core.slam.serialization import SlamGraph
 from nav_stack.core.slam.shared import (
-    IDENTITY,
     SlamUpdate,
     between,
     check_inputs,

@@ -14,11 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nav_stack.core.geometry import FloatArray, Pose2D, to_frame
+from nav_stack.core.geometry import IDENTITY, FloatArray, Pose2D, to_frame
 from nav_stack.core.slam.correlation import CorrelationGrid, MatchResult, SearchWindow, match
 from nav_stack.core.slam.params import SlamParams
 
-IDENTITY = Pose2D(0.0, 0.0, 0.0)
 # Fewer usable reference or scan points than this make a match meaningless.
 MIN_MATCH_POINTS = 20
 

@@ -24,8 +24,9 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from ros_tools.geometry import yaw_of
 from smacc_py.clients.cl_nav2z.cp_pose import make_pose_stamped
-from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
+from smacc_py.clients.cl_nav2z.geometry import Pose2D
 from smacc_py.core import ISmaccComponent
 from smacc_py.ros.components.signal import SmaccSignal
 from smacc_py.ros.context import DISCOVERY_HOLD_S, hold_lockstep, ros_context
@@ -37,7 +38,6 @@ AMCL_POSE_QOS = QoSProfile(
 )
 
 RESEND_WALL_S = 0.25  # wall s between copies of an initial pose AMCL has not answered, while sim time waits
-Pose2D = tuple[float, float, float]  # x, y in m, yaw in rad (map frame)
 PoseListener = Callable[[Pose2D], None]
 
 
@@ -105,5 +105,5 @@ class CpAmcl(ISmaccComponent):
         self.estimate_received.emit(estimate)
 
     def _on_amcl_pose(self, msg: PoseWithCovarianceStamped) -> None:
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        self.on_estimate((p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w)))
+        p = msg.pose.pose.position
+        self.on_estimate((p.x, p.y, yaw_of(msg.pose.pose.orientation)))

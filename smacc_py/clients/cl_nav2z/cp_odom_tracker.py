@@ -17,8 +17,9 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path
 from rclpy.qos import qos_profile_sensor_data
 
+from ros_tools.geometry import yaw_of
 from smacc_py.clients.cl_nav2z.cp_pose import make_header, make_pose_stamped
-from smacc_py.clients.cl_nav2z.geometry import Pose2D, quaternion_to_yaw
+from smacc_py.clients.cl_nav2z.geometry import Pose2D
 from smacc_py.clients.cl_nav2z.odom_path import OdomPath, OdomTrackerParams, WorkingMode
 from smacc_py.core import ISmaccComponent
 from smacc_py.ros.context import ros_context
@@ -53,8 +54,8 @@ class CpOdomTracker(ISmaccComponent):
         )
 
     def _on_odom(self, msg: Odometry) -> None:
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        pose = (p.x, p.y, quaternion_to_yaw(q.x, q.y, q.z, q.w))
+        p = msg.pose.pose.position
+        pose = (p.x, p.y, yaw_of(msg.pose.pose.orientation))
         self.last_pose = pose
         if self.paths.feed(pose):
             now = self.sm.now()

@@ -12,8 +12,9 @@ import threading
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import Header
 
+from ros_tools.geometry import set_yaw
 from ros_tools.tf import TransformError
-from smacc_py.clients.cl_nav2z.geometry import Pose2D, yaw_to_quaternion
+from smacc_py.clients.cl_nav2z.geometry import Pose2D
 from smacc_py.core import ISmaccComponent, ISmaccUpdatable
 from smacc_py.ros.context import ros_context
 
@@ -83,7 +84,5 @@ def make_pose_stamped(frame_id: str, x: float, y: float, yaw: float, stamp: floa
     msg = PoseStamped()
     msg.header = make_header(frame_id, stamp)
     msg.pose.position.x, msg.pose.position.y = float(x), float(y)
-    qx, qy, qz, qw = yaw_to_quaternion(yaw)
-    msg.pose.orientation.x, msg.pose.orientation.y = qx, qy
-    msg.pose.orientation.z, msg.pose.orientation.w = qz, qw
+    set_yaw(msg.pose.orientation, yaw)
     return msg

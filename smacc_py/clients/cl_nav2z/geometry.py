@@ -1,6 +1,7 @@
-"""Planar pose helpers (pure Python): yaw ↔ quaternion, angle wrapping, path shape tests.
+"""Planar pose helpers (pure Python): angle wrapping and path shape tests.
 
-Poses are ``(x, y, yaw)`` tuples in m and rad.
+Poses are ``(x, y, yaw)`` tuples in m and rad. The yaw of a message's quaternion, and the reverse, are
+ros_tools.geometry's (every package's ROS layer shares them).
 """
 
 from __future__ import annotations
@@ -8,6 +9,8 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
+
+from ros_tools.geometry import yaw_from_quaternion
 
 Pose2D = tuple[float, float, float]
 
@@ -18,14 +21,8 @@ def normalize_angle(angle: float) -> float:
     return math.pi if wrapped == -math.pi else wrapped
 
 
-def yaw_to_quaternion(yaw: float) -> tuple[float, float, float, float]:
-    """(x, y, z, w) of a rotation by ``yaw`` rad about z."""
-    return 0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0)
-
-
-def quaternion_to_yaw(x: float, y: float, z: float, w: float) -> float:
-    """Yaw (rad) of a quaternion."""
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+#: ros_tools.geometry.yaw_from_quaternion under the name tests/helpers/smacc_fake_nav.py imports it by.
+quaternion_to_yaw = yaw_from_quaternion
 
 
 def path_length(path: Sequence[Pose2D]) -> float:

@@ -5,13 +5,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from smacc_py.clients.cl_nav2z.geometry import Pose2D
 from smacc_py.core import SmaccStateMachineBase
 from smacc_py.ros.context import ros_context
 from smacc_py.ros.params import declare_dataclass_params
 from smacc_py.state_machines.sm_battery_patrol import states as st
 from smacc_py.state_machines.sm_battery_patrol.orthogonals import OrBattery, OrNavigation, OrTimer
 
-Pose = tuple[float, float, float]
 LOCATION_NAMES = ("location1", "location2", "location3", "location4", "station")
 RECHARGE_MODES = ("station", "dock")
 
@@ -33,12 +33,12 @@ class SmBatteryPatrolParams:
         dock_id: the docking server's dock (its ``docks`` parameter) for ``recharge: dock``.
     """
 
-    initial_pose: Pose = (-2.0, -0.5, 0.0)
-    location1: Pose = (-1.03, -0.51, 0.0)
-    location2: Pose = (-0.56, -1.03, 0.0)
-    location3: Pose = (-1.43, -1.34, 3.14)
-    location4: Pose = (-1.58, -1.48, 3.14)
-    station: Pose = (-1.37, -0.82, 0.0)
+    initial_pose: Pose2D = (-2.0, -0.5, 0.0)
+    location1: Pose2D = (-1.03, -0.51, 0.0)
+    location2: Pose2D = (-0.56, -1.03, 0.0)
+    location3: Pose2D = (-1.43, -1.34, 3.14)
+    location4: Pose2D = (-1.58, -1.48, 3.14)
+    station: Pose2D = (-1.37, -0.82, 0.0)
     battery_topic: str = "/battery_state"
     low_threshold: float = 0.2
     charged_threshold: float = 0.95
@@ -63,11 +63,11 @@ class SmBatteryPatrolParams:
         if not self.charge_timeout > 0.0:
             raise ValueError(f"SmBatteryPatrolParams.charge_timeout must be > 0 s, got {self.charge_timeout}")
 
-    def pose_of(self, location: str) -> Pose:
+    def pose_of(self, location: str) -> Pose2D:
         """The pose of ``location1``..``location4`` or ``station``."""
         if location not in LOCATION_NAMES:
             raise ValueError(f"unknown location {location!r}; known: {', '.join(LOCATION_NAMES)}")
-        pose: Pose = getattr(self, location)
+        pose: Pose2D = getattr(self, location)
         return pose
 
 

@@ -6,13 +6,12 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from smacc_py.clients.cl_nav2z.geometry import Pose2D
 from smacc_py.core import SmaccStateMachineBase
 from smacc_py.ros.context import ros_context
 from smacc_py.ros.params import declare_dataclass_params
 from smacc_py.state_machines.sm_nav2_test_1 import states as st
 from smacc_py.state_machines.sm_nav2_test_1.orthogonals import OrKeyboard, OrNavigation, OrTimer
-
-Pose = tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -34,9 +33,9 @@ class SmNav2Test1Params:
             (config/sm_nav2_test_1_jazzy.yaml), or controller_server answers INVALID_CONTROLLER.
     """
 
-    initial_pose: Pose = (-2.0, -0.5, 0.0)
-    waypoint_1: Pose = (2.0, 0.0, 0.0)
-    waypoint_2: Pose = (-0.55, 0.55, math.pi)
+    initial_pose: Pose2D = (-2.0, -0.5, 0.0)
+    waypoint_1: Pose2D = (2.0, 0.0, 0.0)
+    waypoint_2: Pose2D = (-0.55, 0.55, math.pi)
     default_goal_checker: str = "goal_checker"
 
     def __post_init__(self) -> None:

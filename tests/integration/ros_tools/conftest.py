@@ -7,44 +7,13 @@ tests/helpers/ros_cli.py's ``run_cli``.
 
 from __future__ import annotations
 
-import signal
-import subprocess
-import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
 
 import pytest
 
-from navsuite_testing.ros import BackgroundSpin, start_python, wait_until
+from navsuite_testing.ros import BackgroundSpin, start_python
 from tests.helpers.ros_cli import CLI
-
-
-@dataclass
-class StreamingCli:
-    """A running streaming verb (echo, hz, pub) whose output lines are collected as they come."""
-
-    proc: subprocess.Popen[str]
-    lines: list[str] = field(default_factory=list)
-
-    def __post_init__(self) -> None:
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            self.lines.append(line.rstrip("\n"))
-
-    def wait_for(self, predicate: Callable[[list[str]], bool], timeout: float, what: str) -> None:
-        wait_until(lambda: predicate(self.lines) or self.proc.poll() is not None, timeout, what)
-        assert predicate(self.lines), f"{what}; the CLI exited early:\n" + "\n".join(self.lines)
-
-    def interrupt(self, timeout: float = 10.0) -> int:
-        """Send SIGINT (Ctrl-C) and return the exit code."""
-        self.proc.send_signal(signal.SIGINT)
-        code = self.proc.wait(timeout=timeout)
-        self._reader.join(timeout=timeout)
-        return code
+from tests.helpers.streaming_cli import StreamingCli
 
 
 @pytest.fixture

@@ -8,6 +8,7 @@ from geometry_msgs.msg import Twist
 from matplotlib.image import imread
 
 from ros_tools.bag.writer import BagWriter
+from ros_tools.geometry import yaw_from_quaternion
 from ros_tools.report import ReportParams, write_report
 from ros_tools.report.analysis import (
     Transition,
@@ -15,7 +16,6 @@ from ros_tools.report.analysis import (
     localization_error,
     make_trajectory,
     state_segments,
-    yaw_from_quaternion,
 )
 from ros_tools.report.extract import load_run
 from ros_tools.report.render import AMCL_COLOR, COLLISION_COLOR, TRUTH_COLOR

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import signal
 import subprocess
-import threading
 import time
 
 import pytest
 
 from navsuite_testing.ros import start_python, stop_process, wait_until
 from tests.helpers.runner_probe import INTERRUPTED
+from tests.helpers.streaming_cli import StreamingCli
 
 pytestmark = pytest.mark.ros
 
@@ -26,30 +26,17 @@ EXIT_WAIT = 10.0  # s more for the interpreter to exit after its teardown
 FLAG_HANDLER = "StopOnSignal._on_signal"
 
 
-class Child:
-    """The probe as a child process, its output lines collected by a reader thread as they come."""
+class Child(StreamingCli):
+    """The probe as a child process, its output lines collected by StreamingCli's reader thread."""
 
     def __init__(self, *args: str) -> None:
-        self.proc = start_python("tests.helpers.runner_probe", args)
-        self.lines: list[str] = []
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            self.lines.append(line.rstrip("\n"))
+        super().__init__(start_python("tests.helpers.runner_probe", args))
 
     def line(self, prefix: str) -> str | None:
         return next((line for line in self.lines if line.startswith(prefix)), None)
 
-    def wait_line(self, prefix: str, timeout: float) -> str:
-        wait_until(lambda: self.line(prefix) is not None or self.proc.poll() is not None, timeout,
-                   f"the probe's '{prefix}' line")
-        self._reader.join(timeout=0.0 if self.proc.poll() is None else 5.0)
-        found = self.line(prefix)
-        assert found is not None, "\n".join(self.lines)
-        return found
+    def wait_line(self, prefix: str, timeout: float) -> None:
+        self.wait_for(lambda _: self.line(prefix) is not None, timeout, f"the probe's '{prefix}' line")
 
     def finish(self) -> int:
         if self.proc.poll() is None:

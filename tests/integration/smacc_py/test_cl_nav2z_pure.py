@@ -13,8 +13,6 @@ from smacc_py.clients.cl_nav2z.geometry import (
     is_straight,
     normalize_angle,
     path_length,
-    quaternion_to_yaw,
-    yaw_to_quaternion,
 )
 from smacc_py.clients.cl_nav2z.odom_path import OdomPath, OdomTrackerParams, WorkingMode
 from smacc_py.clients.cl_nav2z.waypoints_io import Waypoint, load_waypoints_file, waypoints_from_flat
@@ -22,9 +20,8 @@ from smacc_py.ros.loader import load_state_machine
 from smacc_py.state_machines.sm_nav2_test_1 import SmNav2Test1, SmNav2Test1Params
 
 
-def test_angles_and_quaternions_round_trip() -> None:
-    for yaw in (-3.0, -1.0, 0.0, 0.5, 3.1):
-        assert quaternion_to_yaw(*yaw_to_quaternion(yaw)) == pytest.approx(yaw)
+def test_angles_wrap_to_minus_pi_exclusive() -> None:
+    """(-π, π]; the quaternion round trip is ros_tools.geometry's (tests/unit/ros_tools/test_geometry.py)."""
     assert normalize_angle(3 * math.pi) == pytest.approx(math.pi)
     assert normalize_angle(-math.pi) == math.pi
 

@@ -15,8 +15,8 @@ from nav_stack.core.docking.simple_charging_dock import (
     SimpleChargingDockParams,
     dock_pose_from_tag,
 )
-from nav_stack.core.docking.spatial import Pose3D, about_axis, compose, heading, inverse, multiply, rotate
-from nav_stack.core.geometry import Pose2D
+from nav_stack.core.docking.spatial import Pose3D, about_axis, compose, inverse, multiply, rotate
+from nav_stack.core.geometry import Pose2D, yaw_from_quaternion
 from tests.helpers.docking_world import JAZZY_DOCK, pose3d, tag_pose_for
 
 DOCKS = [Pose2D(0.0, 0.0, 0.0), Pose2D(1.5, -2.0, 0.7), Pose2D(-3.0, 1.0, -2.9), Pose2D(0.3, 0.4, math.pi)]
@@ -53,7 +53,8 @@ def test_the_translation_is_applied_in_the_flattened_dock_frame_not_the_tag_fram
                     0.0, *JAZZY_DOCK.offset_rotation())
     composed = compose(tag, offset)
     assert math.hypot(composed.x - dock.x, composed.y - dock.y) > 0.1
-    assert heading(composed.orientation) == pytest.approx(dock.yaw, abs=1e-9)  # the rotations agree
+    # the rotations agree
+    assert yaw_from_quaternion(*composed.orientation) == pytest.approx(dock.yaw, abs=1e-9)
 
 
 def test_roll_and_pitch_of_the_detection_are_dropped() -> None:
@@ -129,7 +130,7 @@ def test_the_filter_smooths_detections_and_restarts_after_a_gap() -> None:
     assert first.pose == Pose3D(0.0, 0.0, 0.0)
     second = pose_filter.update(Detection(Pose3D(1.0, 0.0, 0.0, *about_axis("z", 1.0)), "odom", 0.1))
     assert second.pose[:3] == pytest.approx((0.1, 0.0, 0.0))
-    assert heading(second.pose.orientation) == pytest.approx(0.1)
+    assert yaw_from_quaternion(*second.pose.orientation) == pytest.approx(0.1)
     restarted = pose_filter.update(Detection(Pose3D(5.0, 0.0, 0.0), "odom", 2.0))
     assert restarted.pose.x == 5.0
     other_frame = pose_filter.update(Detection(Pose3D(7.0, 0.0, 0.0), "map", 2.1))

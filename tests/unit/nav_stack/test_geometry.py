@@ -10,6 +10,7 @@ import pytest
 from nav_stack.core.geometry import (
     Pose2D,
     angle_diff,
+    angle_diffs,
     compose,
     cumulative_lengths,
     from_frame,
@@ -32,6 +33,17 @@ def test_angles_wrap_to_minus_pi_pi() -> None:
     assert np.allclose(
         normalize_angles(np.array([0.0, 4.0, -4.0])), [0.0, 4.0 - 2 * math.pi, 2 * math.pi - 4.0]
     )
+
+
+def test_angle_diffs_is_angle_diff_element_wise() -> None:
+    """The array form (MPPI's critics, AMCL) agrees with the scalar one, a scalar on either side."""
+    to = np.array([-3.0, 0.5, 3.0, math.pi, -math.pi])
+    frm = np.array([3.0, -0.5, -3.0, 0.0, 0.0])
+    expected = [angle_diff(float(a), float(b)) for a, b in zip(to, frm, strict=True)]
+    assert angle_diffs(to, frm).tolist() == expected
+    assert angle_diffs(to, 0.25).tolist() == [angle_diff(float(a), 0.25) for a in to]
+    assert angle_diffs(0.25, frm).tolist() == [angle_diff(0.25, float(b)) for b in frm]
+    assert angle_diffs(to, frm)[0] == pytest.approx(2 * math.pi - 6.0)
 
 
 @pytest.mark.parametrize("yaw", [0.0, 1.0, -2.5, math.pi - 1e-6])

@@ -9,8 +9,8 @@ from types import SimpleNamespace
 import pytest
 from nav_msgs.msg import Odometry, Path
 
+from ros_tools.geometry import yaw_of
 from smacc_py.clients.cl_nav2z import CpOdomTracker
-from smacc_py.clients.cl_nav2z.geometry import quaternion_to_yaw
 from smacc_py.clients.cl_nav2z.odom_path import WorkingMode
 from tests.helpers.smacc_stand_ins import RecordingPublisher
 
@@ -57,8 +57,7 @@ def test_the_paths_carry_every_recorded_pose_in_the_odom_frame() -> None:
         """x, y, yaw of every pose, flattened."""
         flat = []
         for p in path.poses:
-            q = p.pose.orientation
-            flat += [p.pose.position.x, p.pose.position.y, quaternion_to_yaw(q.x, q.y, q.z, q.w)]
+            flat += [p.pose.position.x, p.pose.position.y, yaw_of(p.pose.orientation)]
         return flat
 
     assert xy_yaw(working) == pytest.approx([0.3, 0.0, 0.15, 0.4, 0.0, 0.2])

@@ -25,14 +25,13 @@ import numpy as np
 from nav_stack.core.control.mppi.params import MotionModel, MPPIParams
 from nav_stack.core.control.mppi.path_critics import (
     CycleFacts,
-    angle_diff,
     path_align_critic,
     path_angle_critic,
     path_follow_critic,
     powered,
 )
 from nav_stack.core.control.mppi.scene import Rollouts, Scene
-from nav_stack.core.geometry import FloatArray
+from nav_stack.core.geometry import FloatArray, angle_diffs
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 
 BoolArray = np.ndarray
@@ -140,7 +139,7 @@ def goal_angle_critic(p: Any, scene: Scene, r: Rollouts, ctx: CycleFacts) -> Flo
     """GoalAngleCritic: within threshold_to_consider of the goal, the mean |yaw − goal yaw|."""
     if not scene.goal_within(p.threshold_to_consider):
         return np.zeros(len(r.x))
-    error = np.abs(angle_diff(r.yaw, scene.goal[2]))
+    error = np.abs(angle_diffs(r.yaw, scene.goal[2]))
     return powered(error.mean(axis=1), p.cost_weight, p.cost_power)
 
 

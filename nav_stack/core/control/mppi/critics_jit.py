@@ -42,6 +42,7 @@ DISABLED = -1
 
 @njit(cache=True, error_model="numpy", inline="always")
 def angle_diff(to: float, frm: float) -> float:
+    """nav_stack.core.geometry.angle_diff compiled for the kernels (numba cannot call the Python one)."""
     d = to - frm
     return d - TWO_PI * math.floor((d + math.pi) / TWO_PI)
 

@@ -17,17 +17,10 @@ import numpy as np
 from nav_stack.core.control.mppi.critic_params import PathAngleMode
 from nav_stack.core.control.mppi.params import MPPIParams
 from nav_stack.core.control.mppi.scene import Rollouts, Scene
-from nav_stack.core.geometry import FloatArray
+from nav_stack.core.geometry import FloatArray, angle_diff, angle_diffs
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, IntArray
 
 BoolArray = np.ndarray
-
-
-def angle_diff(to: FloatArray | float, frm: FloatArray | float) -> FloatArray:
-    """Signed shortest rotation (rad) from ``frm`` to ``to``, in [-π, π)
-    (angles::shortest_angular_distance)."""
-    d = np.asarray(to, dtype=np.float64) - frm
-    return np.asarray(d - 2.0 * math.pi * np.floor((d + math.pi) / (2.0 * math.pi)))
 
 
 def powered(term: FloatArray, weight: float, power: int) -> FloatArray:
@@ -116,7 +109,7 @@ def path_align_critic(p: Any, scene: Scene, r: Rollouts, ctx: CycleFacts) -> Flo
         ex, ey = points[nearest, 0] - x[:, k + 1], points[nearest, 1] - y[:, k + 1]
         d2 = ex * ex + ey * ey
         if p.use_path_orientations:
-            turn = angle_diff(yaw[:, k + 1], points[nearest, 2])
+            turn = angle_diffs(yaw[:, k + 1], points[nearest, 2])
             d2 = d2 + turn * turn
         total += np.where(valid, np.sqrt(d2), 0.0)
         count += valid
@@ -155,11 +148,11 @@ def heading_error(mode: int, yaw: float, bearing: float, path_yaw: float) -> flo
     """|angle| between a heading and the bearing to the path point (Nav2's posePointAngle): mode 1
     also accepts driving there backwards; mode 2 flips the bearing where the path runs the other way."""
     if mode == PathAngleMode.NO_DIRECTIONAL_PREFERENCE:
-        return min(abs(float(angle_diff(yaw, bearing))), abs(float(angle_diff(yaw + math.pi, bearing))))
+        return min(abs(angle_diff(yaw, bearing)), abs(angle_diff(yaw + math.pi, bearing)))
     if mode == PathAngleMode.CONSIDER_FEASIBLE_PATH_ORIENTATIONS and \
-            abs(float(angle_diff(path_yaw, bearing))) > math.pi / 2:
+            abs(angle_diff(path_yaw, bearing)) > math.pi / 2:
         bearing += math.pi
-    return abs(float(angle_diff(yaw, bearing)))
+    return abs(angle_diff(yaw, bearing))
 
 
 def path_angle_critic(p: Any, scene: Scene, r: Rollouts, ctx: CycleFacts) -> FloatArray:
@@ -177,10 +170,10 @@ def path_angle_critic(p: Any, scene: Scene, r: Rollouts, ctx: CycleFacts) -> Flo
         return zeros
     bearings = np.arctan2(target[1] - r.y, target[0] - r.x)
     if mode == PathAngleMode.NO_DIRECTIONAL_PREFERENCE:
-        flip = np.abs(angle_diff(bearings, r.yaw)) >= math.pi / 2
-        bearings = np.where(flip, angle_diff(bearings + math.pi, 0.0), bearings)
+        flip = np.abs(angle_diffs(bearings, r.yaw)) >= math.pi / 2
+        bearings = np.where(flip, angle_diffs(bearings + math.pi, 0.0), bearings)
     elif mode == PathAngleMode.CONSIDER_FEASIBLE_PATH_ORIENTATIONS:
-        flip = np.abs(angle_diff(target[2], bearings)) >= math.pi / 2
-        bearings = np.where(flip, angle_diff(bearings + math.pi, 0.0), bearings)
-    error = np.abs(angle_diff(bearings, r.yaw))
+        flip = np.abs(angle_diffs(target[2], bearings)) >= math.pi / 2
+        bearings = np.where(flip, angle_diffs(bearings + math.pi, 0.0), bearings)
+    error = np.abs(angle_diffs(bearings, r.yaw))
     return powered(error.mean(axis=1), p.cost_weight, p.cost_power)
