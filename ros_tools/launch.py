@@ -81,6 +81,9 @@ class ProcessSpec:
         respawn_delay: s (wall) between its exit and its new start (launch's ``respawn_delay``).
         respawn_max_deaths: deaths within ``respawn_window`` s after which it is given up.
         respawn_window: s (wall) over which its deaths are counted.
+        ready_before_next: wait for its readiness before starting the next process; False starts
+            the next one at once (processes that do not need each other, e.g. the stacks of a
+            fleet's robots), and its readiness is awaited later (:meth:`Launcher.start`).
     """
 
     name: str
@@ -93,6 +96,7 @@ class ProcessSpec:
     respawn_delay: float = 0.0
     respawn_max_deaths: int = RESPAWN_MAX_DEATHS
     respawn_window: float = RESPAWN_WINDOW
+    ready_before_next: bool = True
 
     def respawn_policy(self) -> Respawn:
         """The respawn settings as one checked value (ValueError on a bad one)."""
@@ -198,7 +202,12 @@ class Launcher:
         self._output(f"[launch] {text}")
 
     def start(self, specs: Sequence[ProcessSpec]) -> None:
-        """Start each process and wait for its readiness line before starting the next."""
+        """Start each process and wait for its readiness line before starting the next.
+
+        A spec with ``ready_before_next`` False lets the next process start at once; its readiness is
+        awaited with that of the next spec that waits, or before ``start`` returns.
+        """
+        waiting: list[tuple[_Running, float]] = []  # (started process, monotonic s it started)
         for index, spec in enumerate(specs):
             color = _COLORS[index % len(_COLORS)] if self._color else ""
             self.log(f"starting {spec.name}: {' '.join(spec.cmd)}")
@@ -210,29 +219,40 @@ class Launcher:
             self.running.append(running)
             if running.ready is None:
                 continue
-            started = time.monotonic()
-            next_status = started + self.STATUS_PERIOD
-            while not running.ready.wait(0.1):
-                code = running.proc.poll()
-                if code is not None:
-                    running.drain()  # its last lines (the ready line, maybe) may still be in the pipe
-                    if running.ready.is_set():
-                        break  # ready, then exited: wait() reports its exit code
-                    self._show_last_lines(running)
-                    raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
-                if self._stop.is_set():
-                    raise LaunchError("interrupted during startup")
-                now = time.monotonic()
-                if now - started > spec.ready_timeout:
-                    raise LaunchError(
-                        f"{spec.name} was not ready after {spec.ready_timeout:.0f} s "
-                        f"(waited for a line matching '{spec.ready}')"
-                    )
-                if now >= next_status:  # a live status line: a slow start is not a hang
-                    next_status += self.STATUS_PERIOD
-                    self.log(f"waiting for {spec.name}: {now - started:.0f} s of {spec.ready_timeout:.0f} s "
-                             f"(until it prints '{spec.ready}')")
-            self.log(f"{spec.name} is ready ({time.monotonic() - started:.1f} s)")
+            waiting.append((running, time.monotonic()))
+            if spec.ready_before_next:
+                for started_one, started in waiting:
+                    self._wait_ready(started_one, started)
+                waiting = []
+        for started_one, started in waiting:
+            self._wait_ready(started_one, started)
+
+    def _wait_ready(self, running: _Running, started: float) -> None:
+        """Wait for ``running``'s readiness line; LaunchError when it dies, times out or the launch stops."""
+        spec = running.spec
+        assert running.ready is not None
+        next_status = time.monotonic() + self.STATUS_PERIOD  # a process awaited late: none at once
+        while not running.ready.wait(0.1):
+            code = running.proc.poll()
+            if code is not None:
+                running.drain()  # its last lines (the ready line, maybe) may still be in the pipe
+                if running.ready.is_set():
+                    break  # ready, then exited: wait() reports its exit code
+                self._show_last_lines(running)
+                raise LaunchError(f"{spec.name} exited with code {code} before it was ready")
+            if self._stop.is_set():
+                raise LaunchError("interrupted during startup")
+            now = time.monotonic()
+            if now - started > spec.ready_timeout:
+                raise LaunchError(
+                    f"{spec.name} was not ready after {spec.ready_timeout:.0f} s "
+                    f"(waited for a line matching '{spec.ready}')"
+                )
+            if now >= next_status:  # a live status line: a slow start is not a hang
+                next_status += self.STATUS_PERIOD
+                self.log(f"waiting for {spec.name}: {now - started:.0f} s of {spec.ready_timeout:.0f} s "
+                         f"(until it prints '{spec.ready}')")
+        self.log(f"{spec.name} is ready ({time.monotonic() - started:.1f} s)")
 
     def _spawn(self, spec: ProcessSpec, color: str, append: bool = False) -> _Running:
         try:

@@ -5,6 +5,7 @@
                 [--no-sim] [--isolated]
                 [--no-lockstep] [--no-respawn] [--executor events|single]
                 [--no-initial-pose] [--x X --y Y --yaw YAW (default: the world's first spawn)]
+                [--robots N | --fleet FILE]
                 [--verbose] [--log-dir artifacts/logs]
 
 Processes, started in order by ros_tools.launch.Launcher, each waiting for the previous one's
@@ -46,6 +47,9 @@ effect does not depend on when it crossed DDS (docs/architecture.md, "What repea
 ``--unstamped-cmd-vel`` keeps the files' setting and a Twist simulator.
 ``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
 the node processes (nav_stack/ros/bringup_components.py).
+
+``--robots N`` or ``--fleet FILE`` launches a fleet instead: one simulator with every robot and one
+namespaced stack per robot (nav_stack/ros/fleet_bringup.py; docs/fleet.md).
 """
 
 from __future__ import annotations
@@ -58,6 +62,14 @@ from pathlib import Path
 from typing import Any
 
 from nav_stack.ros.bringup_components import COMPONENT_READY, COMPONENTS, component_role, run_component
+from nav_stack.ros.fleet_bringup import (
+    add_fleet_arguments,
+    check_fleet_params,
+    fleet_process_specs,
+    is_fleet,
+    refuse_one_robot_options,
+    resolve_fleet,
+)
 from nav_stack.ros.robot_params import ROBOTS, params_for_robot
 from navsuite_data import data_root, resolve, searched
 from ros_tools.dds import keep_dds_local
@@ -129,6 +141,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--log-dir", type=Path, default=None,
                         help="where each process's full log goes, as <process>.log (default: "
                              "$NAVSUITE_LOG_DIR, else artifacts/logs)")
+    add_fleet_arguments(parser)
     return parser
 
 
@@ -175,12 +188,14 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     """The launch options: parsed, checked (exit 2 with a message) and completed by the world's defaults."""
     parser = _parser()
     args = parser.parse_args(list(argv))
-    own_params = args.params is not None
+    args.own_params = own_params = args.params is not None
     args.params = args.params or [str(params_for_robot(args.robot))]
     _validate(args, parser)
     if args.isolated is None:
         args.isolated = _layout_is_isolated(parser) and not args.slam
+    refuse_one_robot_options(args, parser)
     _apply_world_defaults(args, own_params)
+    resolve_fleet(args, parser)
     return args
 
 
@@ -230,6 +245,8 @@ def check_params(args: argparse.Namespace) -> str | None:
     from nav_stack.ros.config_check import ConfigError
     from nav_stack.ros.param_files import ParamFileError
 
+    if is_fleet(args):
+        return check_fleet_params(args)
     try:
         plan_bringup(args.params, slam=args.slam)
     except (ConfigError, ParamFileError) as error:
@@ -241,6 +258,8 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     """The ProcessSpecs of a launch, in start order."""
     from ros_tools.launch import ProcessSpec
 
+    if is_fleet(args):
+        return fleet_process_specs(args, stamps_cmd_vel(args), RESPAWN_DELAY)
     params = [str(Path(p).resolve()) for p in args.params]
     param_args = [arg for path in params for arg in ("--params", path)]
     map_args = ["--map", str(Path(args.map).resolve())] if args.map else []
@@ -344,10 +363,13 @@ def main(argv: Sequence[str] | None = None) -> int:
                          help="the map comes from SLAM: do not hold the simulator until it arrives")
         sub.add_argument("--stamped-cmd-vel", action="store_true",
                          help="enable_stamped_cmd_vel: true for every velocity command producer it runs")
+        sub.add_argument("--namespace", default="",
+                         help="a fleet robot's name: every node under /<name> "
+                              "(nav_stack/ros/fleet_bringup.py)")
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
         return run_component(opts.name, opts.params or [str(DEFAULT_PARAMS)], opts.map, opts.executor,
-                             opts.map_from_slam, opts.stamped_cmd_vel)
+                             opts.map_from_slam, opts.stamped_cmd_vel, opts.namespace)
     args = parse_args(argv)
     problem = check_params(args)
     if problem:

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from nav_stack.ros.bringup_plan import BOND_TIMEOUT, BringupPlan, ManagerPlan, plan_bringup
+from nav_stack.ros.namespaced_params import namespace_remaps, namespaced_files, robot_namespace
 
 COMPONENT_READY = "bringup: component {name} is active"
 #: Nodes that publish velocity commands, each with Nav2's ``enable_stamped_cmd_vel`` (the chain's filters
@@ -27,8 +28,13 @@ COMPONENTS = ("localization", "navigation", "all")
 WAIT_REPORT_S = 5.0  # s (wall) between two "still waiting for" lines
 
 
-def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]:
-    """Node name → a function building that server (and the nodes it owns, e.g. its costmap)."""
+def _server_builders(map_yaml: str | None, namespace: str = "") -> dict[str, Callable[[], list[Any]]]:
+    """Node name → a function building that server (and the nodes it owns, e.g. its costmap).
+
+    With a ``namespace`` (``/robot1``) every node is built in it, and each costmap in
+    ``<namespace>/<costmap>`` with the namespace as its parent (the topics it names relatively,
+    ``map`` and ``scan``, then resolve there, as Nav2's joinWithParentNamespace does).
+    """
     from rclpy.parameter import Parameter
 
     from nav_stack.ros import (
@@ -44,24 +50,34 @@ def _server_builders(map_yaml: str | None) -> dict[str, Callable[[], list[Any]]]
         velocity_smoother,
         waypoint_follower,
     )
+    from nav_stack.ros.costmap_ros import CostmapROS
 
     overrides = [Parameter("yaml_filename", value=str(map_yaml))] if map_yaml else []
+    where: dict[str, Any] = {"namespace": namespace} if namespace else {}
+
+    def owning(costmap: str) -> dict[str, Any]:
+        if not namespace:
+            return {}
+        return {**where, "costmap_node": CostmapROS(costmap, namespace=f"{namespace}/{costmap}",
+                                                    parent_namespace=namespace)}
+
     return {
-        "map_server": lambda: [map_server.MapServer(parameter_overrides=overrides)],
-        "amcl": lambda: [amcl_node.AmclNode()],
-        "controller_server": controller_server.build_nodes,
-        "smoother_server": smoother_server.build_nodes,
-        "planner_server": planner_server.build_nodes,
-        "behavior_server": behavior_server.build_nodes,
-        "velocity_smoother": velocity_smoother.build_nodes,
-        "collision_monitor": collision_monitor.build_nodes,
-        "bt_navigator": bt_navigator.build_nodes,
-        "waypoint_follower": waypoint_follower.build_nodes,
-        "docking_server": docking_server.build_nodes,
+        "map_server": lambda: [map_server.MapServer(parameter_overrides=overrides, **where)],
+        "amcl": lambda: [amcl_node.AmclNode(**where)],
+        "controller_server": lambda: controller_server.build_nodes(**owning("local_costmap")),
+        "smoother_server": lambda: smoother_server.build_nodes(**where),
+        "planner_server": lambda: planner_server.build_nodes(**owning("global_costmap")),
+        "behavior_server": lambda: behavior_server.build_nodes(**where),
+        "velocity_smoother": lambda: velocity_smoother.build_nodes(**where),
+        "collision_monitor": lambda: collision_monitor.build_nodes(**where),
+        "bt_navigator": lambda: bt_navigator.build_nodes(**where),
+        "waypoint_follower": lambda: waypoint_follower.build_nodes(**where),
+        "docking_server": lambda: docking_server.build_nodes(**where),
     }
 
 
-def _manager_nodes(manager: ManagerPlan, builders: dict[str, Callable[[], list[Any]]]) -> list[Any]:
+def _manager_nodes(manager: ManagerPlan, builders: dict[str, Callable[[], list[Any]]],
+                   namespace: str = "") -> list[Any]:
     from nav_stack.ros.lifecycle_manager import LifecycleManager
 
     nodes: list[Any] = []
@@ -69,7 +85,8 @@ def _manager_nodes(manager: ManagerPlan, builders: dict[str, Callable[[], list[A
         nodes.extend(builders[name]())
     defaults = {"node_names": manager.node_names, "autostart": manager.autostart,
                 "bond_timeout": BOND_TIMEOUT}
-    nodes.append(LifecycleManager(manager.name, defaults=defaults))
+    nodes.append(LifecycleManager(manager.name, defaults=defaults,
+                                  **({"namespace": namespace} if namespace else {})))
     return nodes
 
 
@@ -103,14 +120,17 @@ def stamped_overlay(node_names: Sequence[str], directory: str | None = None) -> 
 
 
 def run_component(name: str, params: Sequence[str], map_yaml: str | None, executor: str | None = None,
-                  map_from_slam: bool = False, stamped_cmd_vel: bool = False) -> int:
+                  map_from_slam: bool = False, stamped_cmd_vel: bool = False, namespace: str = "") -> int:
     """Run the nodes of component ``name`` in this process; print COMPONENT_READY once its managers
     are active. The process is a lockstep participant named after the component, and holds the
     simulator until then and until its costmaps have their map (the stack's bringup takes the same
     sim time however slow the machine). With ``map_from_slam`` the map only comes once the simulator
     runs (SLAM builds it from scans), so the process does not wait for it. With ``stamped_cmd_vel``
     every velocity command producer it runs publishes TwistStamped, over what the files say (the
-    launch runs a stamped simulator in lockstep: nav_stack/ros/bringup.py)."""
+    launch runs a stamped simulator in lockstep: nav_stack/ros/bringup.py). With a ``namespace`` (a
+    fleet's robot, ``robot1``) every node runs under ``/robot1``, the parameter files are rewritten for
+    it and its global topics remapped into it (nav_stack/ros/namespaced_params.py), and the lockstep
+    role is ``robot1/<role>``."""
     from rclpy.clock import Clock, ClockType
 
     from nav_stack.ros.costmap_ros import CostmapROS
@@ -119,16 +139,17 @@ def run_component(name: str, params: Sequence[str], map_yaml: str | None, execut
     from ros_tools.runtime.runner import run_nodes
 
     plan: BringupPlan = plan_bringup(params, slam=map_from_slam)
+    ns = robot_namespace(namespace) if namespace else ""
     managers: list[Any] = []
     costmaps: list[Any] = []
 
     def build() -> list[Any]:
-        builders = _server_builders(map_yaml)
+        builders = _server_builders(map_yaml, ns)
         nodes: list[Any] = []
         if name in ("localization", "all") and plan.localization.node_names:
-            nodes += _manager_nodes(plan.localization, builders)
+            nodes += _manager_nodes(plan.localization, builders, ns)
         if name in ("navigation", "all"):
-            nodes += _manager_nodes(plan.navigation, builders)
+            nodes += _manager_nodes(plan.navigation, builders, ns)
         managers.extend(node for node in nodes if isinstance(node, LifecycleManager))
         costmaps.extend(node for node in nodes if isinstance(node, CostmapROS))
         for note in plan.notes:
@@ -173,21 +194,28 @@ def run_component(name: str, params: Sequence[str], map_yaml: str | None, execut
         timer = managers[0].create_timer(0.2, announce, clock=steady)
 
     files = [str(f) for f in params]
-    overlay = None
+    temporary: list[str] = []
     if stamped_cmd_vel and name in ("navigation", "all"):
-        overlay = stamped_overlay(plan.navigation.node_names)
-        files.append(overlay)  # the last file wins over the user's
+        temporary.append(stamped_overlay(plan.navigation.node_names))
+        files.append(temporary[-1])  # the last file wins over the user's
+    remaps = plan.ros_args()
+    if ns:
+        files = namespaced_files(files, ns)
+        temporary += files
+        remaps += [arg for rule in namespace_remaps(ns) for arg in ("-r", rule)]
     rclpy_args = ["nav_bringup", "--ros-args", *[arg for f in files for arg in ("--params-file", f)],
-                  "-p", "use_sim_time:=true", *plan.ros_args()]
+                  "-p", "use_sim_time:=true", *remaps]
     try:
-        code = run_nodes(build, role=component_role(name), rclpy_args=rclpy_args, executor=executor,
-                         ready=ready, on_start=announce_when_ready)
+        code = run_nodes(build, role=component_role(name, namespace), rclpy_args=rclpy_args,
+                         executor=executor, ready=ready, on_start=announce_when_ready)
     finally:
-        if overlay is not None:
-            os.unlink(overlay)
+        for path in temporary:
+            os.unlink(path)
     return 1 if failed else code
 
 
-def component_role(name: str) -> str:
-    """The lockstep role (and launch name) of a component process: ``all`` runs as ``nav2``."""
-    return "nav2" if name == "all" else name
+def component_role(name: str, namespace: str = "") -> str:
+    """The lockstep role (and launch name) of a component process: ``all`` runs as ``nav2``; a fleet
+    robot's process as ``<robot>/<role>`` (``robot1/nav2``)."""
+    role = "nav2" if name == "all" else name
+    return f"{namespace.strip('/')}/{role}" if namespace.strip("/") else role

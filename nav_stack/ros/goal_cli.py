@@ -3,6 +3,11 @@
     nav-goal initial-pose -2.0 -0.5 0.0
     nav-goal goto 0.0 2.0 [1.57] [--behavior-tree my_tree.xml] [--frame map]
     nav-goal waypoints config/waypoints_example.yaml      # a list of [x, y, yaw] (or {waypoints: [...]})
+    nav-goal --namespace robot2 goto 1.0 0.5 0.0          # a fleet's robot (nav-bringup --robots N)
+
+``--namespace`` puts the client in the robot's namespace, so its actions and topics are the robot's
+(``/robot2/navigate_to_pose``, ``/robot2/initialpose``, ``/robot2/amcl_pose``), as a Nav2 client
+started in that namespace (BasicNavigator(namespace=...)) sees them; /clock stays global.
 
 While a goal runs one status line shows distance remaining, ETA, recoveries and elapsed time;
 the end prints the result with its error code and message. Exit status: 0 on success, 1 on
@@ -28,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from nav_stack.core.fleet_spec import FleetSpecError, check_robot_name
 from ros_tools.dds import keep_dds_local
 
 if TYPE_CHECKING:
@@ -63,11 +69,24 @@ def load_waypoints(path: Path) -> list[tuple[float, float, float]]:
     return out
 
 
+def _namespace(text: str) -> str:
+    """``/robot2`` for ``robot2`` or ``/robot2/`` ("" for none); ArgumentTypeError for a name ROS refuses."""
+    parts = [part for part in text.strip().split("/") if part]
+    try:
+        for part in parts:
+            check_robot_name(part)
+    except FleetSpecError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return "/" + "/".join(parts) if parts else ""
+
+
 def _parser() -> argparse.ArgumentParser:
     from ros_tools.runtime.executor import add_executor_argument
 
     parser = argparse.ArgumentParser(prog="nav-goal", description="Send goals to the navigation stack.")
     add_executor_argument(parser)
+    parser.add_argument("--namespace", default="", type=_namespace,
+                        help="the robot's namespace in a fleet (robot2: /robot2/navigate_to_pose)")
     sub = parser.add_subparsers(dest="command", required=True)
     pose = sub.add_parser("initial-pose", help="set AMCL's pose and wait until it is confirmed")
     for name in ("x", "y", "yaw"):
@@ -213,7 +232,8 @@ def goto(runner: GoalRunner, args: argparse.Namespace) -> int:
                 f"recoveries {fb.number_of_recoveries} | {nav:5.1f} s sim, "
                 f"{time.monotonic() - started:5.1f} s wall")
 
-    print(f"navigate_to_pose ({args.x:.2f}, {args.y:.2f}, {args.yaw:.2f}) in '{args.frame}'", flush=True)
+    action = runner.node.resolve_topic_name("navigate_to_pose")   # /robot2/navigate_to_pose with --namespace
+    print(f"{action} ({args.x:.2f}, {args.y:.2f}, {args.yaw:.2f}) in '{args.frame}'", flush=True)
     status, result = runner.run_action(NavigateToPose, "navigate_to_pose", goal, describe)
     print(f"result: {_status_name(status)} (error_code {result.error_code})"
           + (f": {result.error_msg}" if result.error_msg else ""))
@@ -270,7 +290,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     keep_dds_local()
     from ros_tools.runtime.runner import ros_process
 
-    with ros_process(["nav_goal"]) as process:
+    ros_args = ["--ros-args", "-r", f"__ns:={args.namespace}"] if args.namespace else []
+    with ros_process(["nav_goal", *ros_args]) as process:
         runner = GoalRunner(process, args.executor)
         try:
             command = {"goto": goto, "waypoints": waypoints, "initial-pose": initial_pose}[args.command]

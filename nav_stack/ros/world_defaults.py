@@ -21,15 +21,19 @@ from navsuite_data import data_dir, resolve
 
 WORLDS_DIR = data_dir("worlds")
 MAPS_DIR = data_dir("maps")
-FALLBACK_SPAWN = (-2.0, -0.5, 0.0)  # m, m, rad: turtlebot3_world's spawn, for worlds without spawns
+Pose = tuple[float, float, float]  # x m, y m, yaw rad (map frame)
+FALLBACK_SPAWN: Pose = (-2.0, -0.5, 0.0)  # turtlebot3_world's spawn, for worlds without spawns
 
 
 @dataclass(frozen=True)
 class WorldDefaults:
-    """The map (None: the parameter file's) and spawn (x m, y m, yaw rad) a world implies."""
+    """The map (None: the parameter file's) and spawn (x m, y m, yaw rad) a world implies, and every
+    spawn the world file lists, in order (a fleet's robots take them one by one:
+    nav_stack.core.fleet_spawns)."""
 
     map_yaml: Path | None
-    spawn: tuple[float, float, float]
+    spawn: Pose
+    spawns: tuple[Pose, ...] = ()
 
 
 def world_defaults(world: str) -> WorldDefaults:
@@ -48,9 +52,19 @@ def world_defaults(world: str) -> WorldDefaults:
         return WorldDefaults(None, FALLBACK_SPAWN)
     if "image" in data:
         return WorldDefaults(path.resolve(), FALLBACK_SPAWN)
-    spawns = data.get("spawns")
-    spawn = FALLBACK_SPAWN
-    if isinstance(spawns, list) and spawns and isinstance(spawns[0], list) and len(spawns[0]) == 3:
-        spawn = (float(spawns[0][0]), float(spawns[0][1]), float(spawns[0][2]))
+    spawns = _spawns(data.get("spawns"))
     map_yaml = MAPS_DIR / f"{path.stem}.yaml"
-    return WorldDefaults(map_yaml if map_yaml.is_file() else None, spawn)
+    return WorldDefaults(map_yaml if map_yaml.is_file() else None, spawns[0] if spawns else FALLBACK_SPAWN,
+                         spawns)
+
+
+def _spawns(listed: object) -> tuple[Pose, ...]:
+    """The world file's ``spawns`` up to the first entry that is not three numbers (sim2d refuses a
+    broken world file with its own message)."""
+    poses: list[Pose] = []
+    for entry in listed if isinstance(listed, list) else []:
+        if not (isinstance(entry, list) and len(entry) == 3
+                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in entry)):
+            break
+        poses.append((float(entry[0]), float(entry[1]), float(entry[2])))
+    return tuple(poses)
