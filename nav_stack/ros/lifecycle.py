@@ -1,8 +1,9 @@
 """The base of every Nav2-named server: a lifecycle node that also keeps a bond with its manager.
 
 Nav2's servers (map_server, amcl, planner_server, ...) are lifecycle nodes: a lifecycle manager
-configures and activates them in order, and each active node heartbeats a bond on /bond so the
-manager (and SMACC2's CbWaitNav2Nodes) can tell it is alive. This base gives subclasses four hooks
+configures and activates them in order, and each active node heartbeats a bond on ``bond`` (relative:
+``/bond`` for a stack in the root namespace, ``/robot1/bond`` for a fleet robot's) so the manager
+(and SMACC2's CbWaitNav2Nodes) can tell it is alive. This base gives subclasses four hooks
 (``configure``, ``activate``, ``deactivate``, ``cleanup``) that may raise; an exception becomes a
 logged FAILURE of the transition (the node keeps serving its lifecycle services) instead of a crash.
 A transition that is not valid from the current state is answered ``success: false``, as rclcpp's
@@ -28,7 +29,9 @@ from ros_tools.runtime.executor import reentrant_default_group
 
 RCLError = _rclpy.RCLError  # what rcl's lifecycle state machine raises for an invalid transition
 
-BOND_TOPIC = "/bond"
+#: Relative, as nav2_util::LifecycleNode::createBond and the lifecycle manager name it: a namespaced
+#: stack's bonds stay in its namespace, where its manager (in the same namespace) listens.
+BOND_TOPIC = "bond"
 BOND_HEARTBEAT_PERIOD = 0.1  # s, as nav2_util::LifecycleNode::createBond sets it
 BOND_HEARTBEAT_TIMEOUT = 4.0  # s, Nav2's default bond_timeout
 BOND_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)

@@ -15,7 +15,8 @@ activates in order; RESET deactivates and cleans up in reverse order; SHUTDOWN r
 every node down; CONFIGURE / CLEANUP apply only that transition. A node already in a transition's
 goal state is skipped. "Managed nodes are active" is logged when a startup or resume completes.
 
-Bonds: active nodes heartbeat bond/msg/Status on /bond with ``id`` = node name. When a heartbeat is
+Bonds: active nodes heartbeat bond/msg/Status on ``bond`` with ``id`` = node name; the topic is
+relative on both sides, as Nav2's, so the manager hears the nodes of its own namespace. When a heartbeat is
 missing for ``bond_timeout`` (or the node reports its bond inactive while the system is active),
 the manager logs Nav2's CRITICAL FAILURE message, resets every other node, and (with
 ``attempt_respawn_reconnection``) re-runs startup once all nodes answer again, for up to
@@ -129,7 +130,7 @@ class LifecycleManager(Node):
             self._change_state[name] = self.create_client(ChangeState, f"{name}/change_state")
         create_async_service(self, ManageLifecycleNodes, f"{self.get_name()}/manage_nodes", self._on_manage)
         self.create_service(Trigger, f"{self.get_name()}/is_active", self._on_is_active)
-        self.create_subscription(Status, BOND_TOPIC, self._on_bond, BOND_QOS)
+        self._bond_sub = self.create_subscription(Status, BOND_TOPIC, self._on_bond, BOND_QOS)
         self.create_timer(BOND_CHECK_PERIOD, in_task(self, self._check_bonds), clock=self._steady)
         self._respawn_timer: Timer | None = None
         self._respawn_deadline = 0.0
@@ -297,7 +298,7 @@ class LifecycleManager(Node):
             return True
         since = self._steady_now()
         deadline = time.monotonic() + timeout / 2.0
-        self.step = f"waiting for {name}'s bond heartbeat on {BOND_TOPIC}"
+        self.step = f"waiting for {name}'s bond heartbeat on {self._bond_sub.topic_name}"
         while self._heartbeats.get(name, -1.0) < since - BOND_CHECK_PERIOD:
             if time.monotonic() > deadline:
                 self.get_logger().error(f"Server {name} was unable to be reached after {timeout:.2f}s "

@@ -13,12 +13,11 @@ restated here for nav-bringup's component processes:
 * **Remaps**: Nav2's launch maps ``/tf`` and ``/tf_static`` to the relative ``tf`` and ``tf_static``,
   so that TF travels on ``/robotN/tf``. The rules here name ``/robotN/tf`` outright: the costmap
   nodes sit one level deeper (``/robotN/local_costmap``), where a relative ``tf`` would resolve to
-  ``/robotN/local_costmap/tf``; the outcome for every other node is Nav2's. Three more global topics
-  of this stack move into the namespace, each for a reason: ``/bond`` (our lifecycle nodes publish
-  their bond there, Nav2's on the relative ``bond``; two robots' ``controller_server`` would otherwise
-  keep each other's managers content), ``/diagnostics`` (the controller's localization guard reads
-  AMCL's ``amcl: localization`` status there, and must not read another robot's), and MPPI's
-  ``/trajectories``.
+  ``/robotN/local_costmap/tf``; the outcome for every other node is Nav2's. Two more global topics
+  of this stack move into the namespace, each for a reason: ``/diagnostics`` (the controller's
+  localization guard reads AMCL's ``amcl: localization`` status there, and must not read another
+  robot's), and MPPI's ``/trajectories``. Bonds need no rule: their topic is the relative ``bond``,
+  as Nav2's.
 
 A fleet's parameter files should not name a topic by an absolute name outside the robot's namespace
 (``topic: /scan`` reads no robot's scan); :func:`foreign_topics` finds such settings for a warning.
@@ -39,7 +38,7 @@ from nav_stack.ros.param_files import WILDCARD, NavParams
 
 PLACEHOLDER = "<robot_namespace>"
 #: The global topics this stack's nodes name by absolute name that belong to one robot in a fleet.
-ROBOT_GLOBAL_TOPICS = ("/tf", "/tf_static", "/bond", "/diagnostics", "/trajectories")
+ROBOT_GLOBAL_TOPICS = ("/tf", "/tf_static", "/diagnostics", "/trajectories")
 
 
 def robot_namespace(name: str) -> str:

@@ -1,16 +1,15 @@
 """A Nav2 client works unchanged: the calls nav2_simple_commander's BasicNavigator makes (Jazzy),
 over the same interfaces, against the stack started by nav-bringup.
 
-BasicNavigator is not on pip (and its source may not be copied here), so ``MiniNavigator`` repeats
-its protocol (dockRobotByID and undockRobot included): waitUntilNav2Active polls
-``amcl/get_state`` until "active", publishes /initialpose until /amcl_pose arrives, then polls
-``bt_navigator/get_state``; tasks are judged by GoalStatus only, as BasicNavigator does.
+BasicNavigator is not on pip (and its source may not be copied here), so ``MiniNavigator``
+(tests/helpers/mini_navigator.py) repeats its protocol (dockRobotByID and undockRobot included):
+waitUntilNav2Active polls ``amcl/get_state`` until "active", publishes /initialpose until
+/amcl_pose arrives, then polls ``bt_navigator/get_state``; tasks are judged by GoalStatus only, as
+BasicNavigator does.
 """
 
 from __future__ import annotations
 
-import math
-import time
 from collections.abc import Iterator
 from typing import Any
 
@@ -20,8 +19,6 @@ pytest.importorskip("nav2_msgs.action")
 
 from action_msgs.msg import GoalStatus
 from builtin_interfaces.msg import Duration
-from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
-from lifecycle_msgs.srv import GetState
 from nav2_msgs.action import (
     BackUp,
     ComputePathToPose,
@@ -34,100 +31,13 @@ from nav2_msgs.action import (
 )
 from nav2_msgs.srv import ClearEntireCostmap, GetCostmap, LoadMap
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from navsuite_testing.ros import REPO, BackgroundSpin
-from ros_tools.runtime.actions import ActionClient
-from ros_tools.runtime.requests import call_until_answered, poll
-from ros_tools.tf.ros import TransformListener
+from tests.helpers.mini_navigator import MiniNavigator
+from tests.helpers.mini_navigator import pose_stamped as _pose
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
-AMCL_POSE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
-
-
-def _pose(x: float, y: float, yaw: float = 0.0) -> PoseStamped:
-    pose = PoseStamped()
-    pose.header.frame_id = "map"
-    pose.pose.position.x, pose.pose.position.y = x, y
-    pose.pose.orientation.z, pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-    return pose
-
-
-class MiniNavigator:
-    """The subset of BasicNavigator's protocol, with its action/service names."""
-
-    def __init__(self, node: Node) -> None:
-        self.node = node
-        self.clients = {name: ActionClient(node, kind, name) for name, kind in (
-            ("navigate_to_pose", NavigateToPose), ("navigate_through_poses", NavigateThroughPoses),
-            ("follow_waypoints", FollowWaypoints), ("compute_path_to_pose", ComputePathToPose),
-            ("spin", Spin), ("backup", BackUp), ("dock_robot", DockRobot), ("undock_robot", UndockRobot))}
-        self.initial_pose_pub = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
-        self.amcl_poses: list[Any] = []
-        node.create_subscription(PoseWithCovarianceStamped, "amcl_pose", self.amcl_poses.append,
-                                 AMCL_POSE_QOS)
-        self.handle: Any = None
-        self.tf = TransformListener(node)
-        self._services: dict[str, Any] = {}
-
-    def call(self, srv_type: Any, name: str, request: Any, timeout: float = 30.0) -> Any:
-        """Call ``name``, asking again while unanswered (ros_tools.runtime.requests; ``timeout`` s in all).
-
-        Not in BasicNavigator, which waits forever: the server's response can be lost while its
-        writer still matches this client's reader (seen in CI: get_state unanswered for 30 s). The
-        client is kept per service, so later calls need no new discovery.
-        """
-        client = self._services.get(name)
-        if client is None:
-            client = self._services[name] = self.node.create_client(srv_type, name)
-        wait(client.service_is_ready, timeout, f"service {name}")
-        return call_until_answered(client, request, timeout)
-
-    def _wait_active(self, node_name: str) -> None:
-        def active() -> bool:
-            state = self.call(GetState, f"{node_name}/get_state", GetState.Request()).current_state
-            return state.label == "active"
-        wait(active, 120.0, f"{node_name} to be active")
-
-    def wait_until_nav2_active(self) -> None:
-        self._wait_active("amcl")
-        self.amcl_poses.clear()
-        deadline = time.monotonic() + 60.0
-        while not self.amcl_poses:
-            assert time.monotonic() < deadline, "no /amcl_pose after publishing /initialpose"
-            self.set_initial_pose(-2.0, -0.5)
-            poll(lambda: bool(self.amcl_poses), 1.0)  # published again each second until AMCL answers
-        self._wait_active("bt_navigator")
-        # Not in BasicNavigator: AMCL's map -> odom reaches each process a while after /amcl_pose (up
-        # to a second under a loaded full-suite run), and until then the planner answers 207 (its
-        # costmap has no robot pose) and the controller 102. Seeing it here means it is on the way.
-        self.tf.wait_for("map", "base_link", timeout=30.0)
-
-    def set_initial_pose(self, x: float, y: float) -> None:
-        msg = PoseWithCovarianceStamped()
-        msg.header.frame_id = "map"
-        msg.pose.pose = _pose(x, y).pose
-        self.initial_pose_pub.publish(msg)
-
-    def start(self, name: str, goal: Any) -> None:
-        client = self.clients[name]
-        wait(client.server_is_ready, 30.0, f"action {name}")
-        future = client.send_goal_async(goal)
-        wait(future.done, 30.0, f"{name} acknowledgement")
-        self.handle = future.result()
-        assert self.handle.accepted, f"{name} rejected the goal"
-
-    def result(self, timeout: float = 300.0) -> Any:
-        future = self.handle.get_result_async()
-        wait(future.done, timeout, "the task result")
-        return future.result()
-
-    def cancel_task(self) -> None:
-        future = self.handle.cancel_goal_async()
-        wait(future.done, 30.0, "the cancel response")
 
 
 @pytest.fixture(scope="module", params=["one-process", "isolated"])
@@ -146,15 +56,16 @@ def stack(request: Any) -> Iterator[Bringup]:
 
 @pytest.fixture
 def nav(stack, ros_context) -> Iterator[MiniNavigator]:
-    node = Node("basic_navigator", context=ros_context)
+    navigator = MiniNavigator(ros_context)
     executor = SingleThreadedExecutor(context=ros_context)
-    executor.add_node(node)
+    executor.add_node(navigator.node)
     spin = BackgroundSpin(executor)
     try:
-        yield MiniNavigator(node)
+        navigator.set_initial_pose(-2.0, -0.5)  # turtlebot3_world's spawn
+        yield navigator
     finally:
         print(stack.output(200))  # shown by pytest when the test fails
-        spin.stop(node)
+        spin.stop(navigator.node)
 
 
 def test_basic_navigator_session(nav):

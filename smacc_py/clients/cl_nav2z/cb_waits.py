@@ -34,7 +34,7 @@ class CbWaitNav2Nodes(_Nav2Wait):
     DEFAULT_NODES = ("planner_server", "controller_server", "bt_navigator")
 
     def __init__(
-        self, nodes: Sequence[str] = DEFAULT_NODES, topic: str = "/bond", timeout_s: float | None = 30.0
+        self, nodes: Sequence[str] = DEFAULT_NODES, topic: str = "bond", timeout_s: float | None = 30.0
     ) -> None:
         if not nodes:
             raise ValueError("CbWaitNav2Nodes: give at least one node id")

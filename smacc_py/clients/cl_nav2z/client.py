@@ -185,7 +185,7 @@ class ClNav2Z(ISmaccClient):
         return self.send_goal(NAVIGATE_TO_POSE, NavigateToPose.Goal(pose=pose), on_done)
 
     def subscribe_bonds(
-        self, callback: Callable[[str, bool], None], topic: str = "/bond",
+        self, callback: Callable[[str, bool], None], topic: str = "bond",
         hold_until: Callable[[], bool] | None = None,
     ) -> Callable[[], None]:
         """Call ``callback(node_id, active)`` for each bond heartbeat (bond/Status) on ``topic``, on the

@@ -93,7 +93,7 @@ def test_the_overlay_covers_every_absolute_topic_of_the_robots_own_files(tmp_pat
 
 def test_the_robots_global_topics_are_remapped_into_its_namespace() -> None:
     assert namespace_remaps("/robot2") == ["/tf:=/robot2/tf", "/tf_static:=/robot2/tf_static",
-                                           "/bond:=/robot2/bond", "/diagnostics:=/robot2/diagnostics",
+                                           "/diagnostics:=/robot2/diagnostics",
                                            "/trajectories:=/robot2/trajectories"]
 
 
