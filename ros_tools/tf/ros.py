@@ -29,6 +29,8 @@ TF_STATIC_PUB_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                                durability=DurabilityPolicy.TRANSIENT_LOCAL, history=HistoryPolicy.KEEP_LAST)
 TF_STATIC_SUB_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
                                durability=DurabilityPolicy.TRANSIENT_LOCAL, history=HistoryPolicy.KEEP_LAST)
+#: s a link's /tf stamps may go back before the listener takes it for a clock reset and clears the buffer
+BACKWARD_JUMP_S = 1.0
 
 
 def stamp_to_seconds(stamp: object) -> float:
@@ -74,7 +76,8 @@ class TransformListener:
                  callback_group: CallbackGroup | None = None):
         self.node = node
         self.buffer = buffer or TransformBuffer()
-        self._last_stamp = -1.0  # set before subscribing: a callback may run before __init__ returns
+        #: newest stamp (s) per (parent, child) on /tf; set before subscribing: a callback may come first
+        self._last_stamps: dict[tuple[str, str], float] = {}
         self._users = 1
         self._subs = [
             node.create_subscription(TFMessage, "/tf", self._on_tf, TF_QOS, callback_group=callback_group),
@@ -106,9 +109,19 @@ class TransformListener:
         for t in msg.transforms:
             stamp = stamp_to_seconds(t.header.stamp)
             if not static:
-                if stamp + 1.0 < self._last_stamp:  # the clock jumped back (simulation reset)
+                # A link whose stamps go back by more than BACKWARD_JUMP_S: the clock jumped back
+                # (a simulation reset), so what the buffer holds is from another timeline. Per link,
+                # not against the newest stamp of any link: AMCL stamps map -> odom
+                # transform_tolerance (1 s) ahead, and an odometry message a little older arriving
+                # after it cleared the whole buffer mid-patrol (bench_dock_patrol: "frame [map] does
+                # not exist", TF_ERROR 102).
+                link = (t.header.frame_id, t.child_frame_id)
+                last = self._last_stamps.get(link)
+                if last is not None and stamp + BACKWARD_JUMP_S < last:
                     self.buffer.clear()
-                self._last_stamp = max(self._last_stamp, stamp)
+                    self._last_stamps.clear()
+                    last = None
+                self._last_stamps[link] = stamp if last is None else max(last, stamp)
             self.buffer.set_transform(t.header.frame_id, t.child_frame_id, stamp,
                                       transform_from_msg(t), static=static)
 
