@@ -22,6 +22,7 @@ import fcntl
 import os
 import re
 import tempfile
+import warnings
 from collections.abc import Iterator
 from typing import Any
 
@@ -131,6 +132,20 @@ def _count_context_shutdowns() -> None:
 
 
 _count_context_shutdowns()
+
+
+@pytest.fixture(autouse=True)
+def _no_process_outlives_its_test() -> Iterator[None]:
+    """Kill what a test started and left running (tests/helpers/process_tree.py says why), with a
+    warning that names it. Processes of module- and session-scoped fixtures are started before this
+    fixture looks and stopped after it, so they are not touched."""
+    from tests.helpers.process_tree import kill_leftovers, live_children
+
+    before = live_children(os.getpid())
+    yield
+    killed = kill_leftovers(before)
+    if killed:
+        warnings.warn(f"the test left {len(killed)} process(es) running; killed: {killed}", stacklevel=1)
 
 
 @pytest.fixture(autouse=True)

@@ -62,24 +62,6 @@ class Bringup:
         return self.proc.returncode
 
 
-def child_pids(pid: int) -> list[int]:
-    """Direct children of ``pid`` (from /proc)."""
-    try:
-        with open(f"/proc/{pid}/task/{pid}/children") as f:
-            text = f.read()
-    except OSError:
-        return []
-    return [int(p) for p in text.split()]
-
-
-def cmdline(pid: int) -> str:
-    try:
-        with open(f"/proc/{pid}/cmdline") as f:
-            return f.read().replace("\0", " ")
-    except OSError:
-        return ""
-
-
 def yaw_of(q: Any) -> float:
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 

@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from nav_stack.ros import bringup
-from tests.helpers.nav_ros_bt_stack import READY, Bringup, child_pids, cmdline, wait
+from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
+from tests.helpers.process_tree import child_pids, cmdline
 
 
 def _specs(*argv: str) -> list:

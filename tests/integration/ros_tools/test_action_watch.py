@@ -31,8 +31,14 @@ REPO = Path(__file__).resolve().parents[3]
 def _server() -> subprocess.Popen[str]:
     proc = subprocess.Popen([sys.executable, "-m", "tests.helpers.held_action_server"], cwd=REPO,
                             stdout=subprocess.PIPE, text=True)
-    assert proc.stdout is not None and READY_LINE in proc.stdout.readline()
-    return proc
+    assert proc.stdout is not None
+    seen = []  # Fast DDS writes its own errors to stdout (e.g. a shared-memory port it could not lock)
+    for line in proc.stdout:
+        if READY_LINE in line:
+            return proc
+        seen.append(line)
+    proc.kill()  # never left behind: a second NavigateToPose server would answer the next tests' goals
+    raise AssertionError(f"the held action server exited (code {proc.wait()}) before it was ready: {seen}")
 
 
 @pytest.fixture
