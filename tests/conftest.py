@@ -14,11 +14,15 @@
   (``_release_dds_participants``): a node outliving its context keeps that context's DDS participant
   alive, and with localhost discovery a domain holding more than about 30 participants stops
   discovering new ones.
+* Once collection has imported every test module, what it created is frozen out of the garbage
+  collector's reach (``pytest_collection_finish``), so that release and Python's own full collections
+  walk only what the tests create.
 """
 
 from __future__ import annotations
 
 import fcntl
+import gc
 import os
 import re
 import tempfile
@@ -105,6 +109,22 @@ def ros_context() -> Iterator[object]:
     finally:
         if context.ok():
             rclpy.shutdown(context=context)
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """Move every object collection created (the modules, numba's and matplotlib's and rclpy's state)
+    into the garbage collector's permanent generation.
+
+    Why: the release after a test (``_release_dds_participants``) runs a full ``gc.collect`` and walks
+    ``gc.get_objects()``, and both scale with the heap; collecting the whole suite leaves about 300,000
+    objects in it. Frozen, they are skipped by both (and by Python's own full collections): a release
+    took 0.28 s of CPU before and 0.01 s after, and tests/integration on three workers, machine idle,
+    went from 144 to 30 s of teardown and from 285 to 234 s of wall time (2026-11-29). No node exists
+    before the first test, so none is hidden from the release. The garbage collection left is
+    collected first, so that none of it is frozen.
+    """
+    gc.collect()
+    gc.freeze()
 
 
 _shutdowns = [0]  # rclpy contexts shut down since the last release (see _count_context_shutdowns)

@@ -24,7 +24,11 @@ from ros_tools.scenarios.executor import processes_with_env
 TAG = "NAVSUITE_RAY_TEST"
 RAY = str(Path(sys.executable).with_name("ray"))
 OBJECT_STORE = 100 * 1024 * 1024  # bytes per node: the artifacts of a few short scenarios
-STOP_GRACE = 5.0  # wall s between SIGTERM and SIGKILL (gcs_server can outlast 15 s of SIGTERM)
+#: wall s between SIGTERM and SIGKILL. Short: the workers and agents end within 0.2 s of SIGTERM, but
+#: the raylets take 10 s and gcs_server and the autoscaler outlast 20 s (measured idle, 2026-11-29), so a
+#: longer grace only delays the SIGKILL they get anyway (it was 5 s of the Ray tests' teardown).
+TERM_GRACE = 1.0
+KILL_WAIT = 5.0  # wall s for SIGKILLed processes to be gone (the loop ends as soon as they are)
 
 
 def free_port() -> int:
@@ -52,12 +56,12 @@ def cluster_processes(temp_dir: Path) -> list[int]:
 
 
 def stop(temp_dir: Path) -> list[int]:
-    """SIGTERM every process of the cluster, SIGKILL what is left after STOP_GRACE s; the survivors."""
-    for sig in (signal.SIGTERM, signal.SIGKILL):
+    """SIGTERM every process of the cluster, SIGKILL what is left after TERM_GRACE s; the survivors."""
+    for sig, wait in ((signal.SIGTERM, TERM_GRACE), (signal.SIGKILL, KILL_WAIT)):
         for pid in cluster_processes(temp_dir):
             with contextlib.suppress(ProcessLookupError, PermissionError):
                 os.kill(pid, sig)
-        deadline = time.monotonic() + STOP_GRACE
+        deadline = time.monotonic() + wait
         while cluster_processes(temp_dir) and time.monotonic() < deadline:
             time.sleep(0.2)
     return cluster_processes(temp_dir)
