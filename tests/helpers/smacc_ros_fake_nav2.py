@@ -10,7 +10,11 @@
   there and answers on /amcl_pose (reliable, transient local);
 * a world tick (100 Hz wall): /clock advancing ``clock_rate`` simulated seconds per wall second, the
   robot integrating /cmd_vel (unless ``frozen``), /odom and TF map→odom→base_link stamped in sim time. Every
-  Twist received is kept in ``twists``.
+  Twist received is kept in ``twists``;
+* lockstep, as sim2d's (``lockstep_roles``, ``--lockstep ROLE``): the clock moves only while every
+  named role's /lockstep/progress report is within one tick of it (sim2d.core.lockstep.LockstepGate),
+  and stays put until each has reported once. Free-running at 10x on a loaded machine, the state
+  machine read odometry late: CbPureSpinning turned 372 of 180 degrees (CI run 17).
 
 One thread runs the fake: a SingleThreadedExecutor spun by ``start()``'s thread, with the goals'
 execute callbacks as coroutines that wait for the next world tick (on this rclpy the EventsExecutor
@@ -31,6 +35,7 @@ from __future__ import annotations
 import contextlib
 import math
 import threading
+import time
 from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -46,11 +51,18 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Header
 from tf2_msgs.msg import TFMessage
 
 from ros_tools.dds import keep_dds_local
+from ros_tools.runtime.lockstep import PROGRESS_QOS, PROGRESS_TOPIC
+from sim2d.core.lockstep import HOLD, LockstepGate
 
 TICK_S = 0.01
+#: wall s between re-sends of a held clock (sim2d's rate: a participant reports on each /clock)
+RESEND_WALL_S = 0.1
+#: wall s of silence after which a lockstep role no longer holds the clock (sim2d's lockstep.timeout)
+LOCKSTEP_TIMEOUT_S = 10.0
 START_S = 1000.0
 NAV_SPEED = 1.0  # m/s of sim time a navigate_to_pose goal "drives" at
 AMCL_QOS = QoSProfile(
@@ -114,6 +126,7 @@ class FakeNav2:
         frozen: bool = False,
         amcl_echo: bool = True,
         nav_speed: float = NAV_SPEED,
+        lockstep_roles: Iterable[str] = (),
     ) -> None:
         self.node = Node("fake_nav2", context=context)
         self.scripts = {name: deque(scripts.get(name, ()) if scripts else ()) for name in ACTIONS}
@@ -130,6 +143,11 @@ class FakeNav2:
         self._lock = threading.Lock()
         self._stopping = False
         self._tick_gate = Future()  # completed (and replaced) by every world tick
+        roles = tuple(lockstep_roles)
+        # a lead of one tick: the clock may move one step past the slowest role's report
+        self._lockstep = LockstepGate(round(TICK_S * clock_rate * 1e9), LOCKSTEP_TIMEOUT_S, time.monotonic(),
+                                      expected=roles, startup_timeout=LOCKSTEP_TIMEOUT_S) if roles else None
+        self._last_send_wall = 0.0
         n = self.node
         self._servers = [
             ActionServer(n, action_type, name, self._executor_for(name),
@@ -143,6 +161,8 @@ class FakeNav2:
         self._amcl_pub = n.create_publisher(PoseWithCovarianceStamped, "/amcl_pose", AMCL_QOS)
         n.create_subscription(Twist, "/cmd_vel", self._on_cmd_vel, 100)
         n.create_subscription(PoseWithCovarianceStamped, "/initialpose", self._on_initial_pose, 10)
+        if self._lockstep is not None:
+            n.create_subscription(Header, PROGRESS_TOPIC, self._on_progress, PROGRESS_QOS)
         n.create_timer(TICK_S, self._tick)
         n.create_timer(0.1, self._heartbeat)
         self.executor = SingleThreadedExecutor(context=context)
@@ -177,9 +197,27 @@ class FakeNav2:
         with self._lock:
             self.odom_pose = _compose(_inverse(self.map_odom), (x, y, yaw))
 
+    def _on_progress(self, msg: Header) -> None:
+        assert self._lockstep is not None
+        stamp_ns = msg.stamp.sec * 1_000_000_000 + msg.stamp.nanosec
+        self._lockstep.report(msg.frame_id, stamp_ns, time.monotonic())
+
+    def _held(self, next_s: float) -> bool:
+        """True while a lockstep role has not caught up with the clock (or has not reported yet)."""
+        if self._lockstep is None:
+            return False
+        limit = self._lockstep.limit_ns(time.monotonic())
+        # half a tick of slack: reports carry the clock's truncated ns, sim_s is a sum of float ticks
+        slack_ns = TICK_S * self.clock_rate * 0.5e9
+        return limit == HOLD or (limit is not None and next_s * 1e9 > limit + slack_ns)
+
     def _tick(self) -> None:
+        dt = TICK_S * self.clock_rate
+        if self._held(self.sim_s + dt):
+            if time.monotonic() - self._last_send_wall >= RESEND_WALL_S:  # the time it holds at, again
+                self._publish_clock(self.sim_s)
+            return
         with self._lock:
-            dt = TICK_S * self.clock_rate
             self.sim_s += dt
             if not self.frozen:
                 x, y, yaw = self.odom_pose
@@ -188,9 +226,7 @@ class FakeNav2:
             stamp, odom, map_odom = self.sim_s, self.odom_pose, self.map_odom
         gate, self._tick_gate = self._tick_gate, Future()
         gate.set_result(stamp)
-        clock = Clock()
-        clock.clock.sec, clock.clock.nanosec = int(stamp), int((stamp % 1.0) * 1e9)
-        self._clock_pub.publish(clock)
+        self._publish_clock(stamp)
         odom_tf = _tf("odom", "base_link", *odom, stamp)
         self._tf_pub.publish(TFMessage(transforms=[_tf("map", "odom", *map_odom, stamp), odom_tf]))
         msg = Odometry()
@@ -198,6 +234,12 @@ class FakeNav2:
         msg.pose.pose.position.x, msg.pose.pose.position.y = odom[0], odom[1]
         msg.pose.pose.orientation = odom_tf.transform.rotation
         self._odom_pub.publish(msg)
+
+    def _publish_clock(self, stamp: float) -> None:
+        clock = Clock()
+        clock.clock.sec, clock.clock.nanosec = int(stamp), int((stamp % 1.0) * 1e9)
+        self._clock_pub.publish(clock)
+        self._last_send_wall = time.monotonic()
 
     def _heartbeat(self) -> None:
         for node_id in list(self.bond_nodes):
@@ -290,11 +332,13 @@ def main() -> int:
     parser = argparse.ArgumentParser()
     parser.add_argument("--rtf", type=float, default=10.0)
     parser.add_argument("--abort-navigation", action="store_true")
+    parser.add_argument("--lockstep", metavar="ROLE", action="append", default=[],
+                        help="hold the clock for this lockstep role (repeatable), as sim2d does")
     options = parser.parse_args()
     context = Context()
     rclpy.init(context=context)
     scripts = {"navigate_to_pose": ["aborted"]} if options.abort_navigation else None
-    fake = FakeNav2(context, scripts=scripts, clock_rate=options.rtf).start()
+    fake = FakeNav2(context, scripts=scripts, clock_rate=options.rtf, lockstep_roles=options.lockstep).start()
     stop = threading.Event()
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
