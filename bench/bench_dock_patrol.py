@@ -32,7 +32,6 @@ low-battery episode was missed.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import subprocess
 import sys
@@ -51,7 +50,7 @@ from bench.dock_patrol_tally import (
     PatrolTally,
     progress_line,
 )
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIG = REPO / "config" / "autonomy_docking_realistic.yaml"
@@ -244,11 +243,9 @@ def main() -> int:
     from nav_stack.ros.robot_params import params_for_robot
 
     args = _parser().parse_args()
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())
+    domain = enter_local_domain()
     version = code_version_with_fingerprint()
-    print(f"dock_patrol: ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}, code {version}", flush=True)
+    print(f"dock_patrol: ROS_DOMAIN_ID {domain}, code {version}", flush=True)
     autonomy = yaml.safe_load(CONFIG.read_text())["autonomy_node"]["ros__parameters"]
     overrides = {} if args.charged_threshold is None else {"charged_threshold": args.charged_threshold}
     autonomy.update(overrides)

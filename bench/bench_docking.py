@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import statistics
 import threading
 import time
@@ -30,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 from bench.nav_driver import HOLD_GRACE, Driver
 from bench.nav_session import MIN_CLEARANCE, Stack, free_poses, map_yaml
 
@@ -225,11 +224,9 @@ def main() -> int:
     from nav_stack.ros.robot_params import params_for_robot
 
     args = _parser().parse_args()
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())
+    domain = enter_local_domain()
     version = code_version_with_fingerprint()
-    print(f"docking: ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}, code {version}", flush=True)
+    print(f"docking: ROS_DOMAIN_ID {domain}, code {version}", flush=True)
     dock_params = args.dock_params or REPO / "config" / "docks" / f"{args.world}.yaml"
     contact = contact_pose(args.world)
     rng = np.random.default_rng(args.seed)

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 from bench.nav_driver import Driver
 from bench.nav_session import MIN_CLEARANCE, READY_TIMEOUT, STOP_TIMEOUT, _watch, free_poses, map_yaml
 
@@ -250,10 +250,9 @@ def main() -> int:
     from nav_stack.ros.bringup import parse_args
 
     args = _parser().parse_args()
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())
+    domain = enter_local_domain()
     version = code_version_with_fingerprint()
+    print(f"fleet_nav: ROS_DOMAIN_ID {domain}, code {version}", flush=True)
     plan = parse_args(["--robots", str(args.robots), "--world", args.world, "--robot", args.robot])
     members = [(m.name, m.model) for m in plan.members]
     candidates = free_poses(map_yaml(args.world), MIN_CLEARANCE)

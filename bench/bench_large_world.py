@@ -25,7 +25,6 @@ process it relieved.
 from __future__ import annotations
 
 import argparse
-import os
 import subprocess
 import sys
 import threading
@@ -35,7 +34,7 @@ import numpy as np
 import yaml
 
 from bench.bench_cpu import POLL_S, Sampler, process_name
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 from bench.nav_session import MIN_CLEARANCE, REPO, GoalRecord, Stack, free_poses, ideal_speed, run_goals
 
 OUT = REPO / "artifacts" / "bench_large_world"
@@ -134,14 +133,12 @@ def main() -> int:
     from nav_stack.ros.world_defaults import world_defaults
 
     args = _parser().parse_args()
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())  # never a test session's domain
+    domain = enter_local_domain()
     version = code_version_with_fingerprint()
     world, map_path = generate(args)
     cells = _cells(map_path)
     print(f"large_world: {world.name}, map {cells / 1e6:.2f} M cells at {args.resolution} m; "
-          f"ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}; code {version}", flush=True)
+          f"ROS_DOMAIN_ID {domain}; code {version}", flush=True)
     params = planner_params(params_for_robot(args.robot), args.search == "astar", args.incremental_costmaps)
     log_dir = OUT / "logs"
     for old in log_dir.glob("*.log"):

@@ -31,7 +31,6 @@ Targets: >= 98 % success, 0 collisions, <= 1.3x ideal, a sustained real-time fac
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import statistics
 import threading
@@ -39,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 from bench.nav_session import (
     MIN_CLEARANCE,
     GoalRecord,
@@ -113,10 +112,8 @@ def main() -> int:
 
     args = _parser().parse_args()
     params: Path = args.params or params_for_robot(args.robot)
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())  # never a test session's domain
-    print(f"navigation: ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}", flush=True)
+    domain = enter_local_domain()
+    print(f"navigation: ROS_DOMAIN_ID {domain}", flush=True)
     version = code_version_with_fingerprint()
     print(f"navigation: code {version}", flush=True)
     rng = np.random.default_rng(args.seed)

@@ -25,13 +25,12 @@ never empty.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import threading
 
 import numpy as np
 
-from bench.harness import Benchmark, claim_domain_id, code_version_with_fingerprint, version_note
+from bench.harness import Benchmark, code_version_with_fingerprint, enter_local_domain, version_note
 from bench.nav_session import MIN_CLEARANCE, GoalRecord, Stack, free_poses, ideal_speed, map_yaml, run_goals
 from bench.proc_memory import compare, tree_memory
 from bench.soak_report import Config, ConfigResult, parse_plan, print_summary, record, split_goals
@@ -121,10 +120,8 @@ def main() -> int:
     parser = _parser()
     args = parser.parse_args()
     plan = _plan(args, parser)
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    if "ROS_DOMAIN_ID" not in os.environ:
-        os.environ["ROS_DOMAIN_ID"] = str(claim_domain_id())  # never a test session's domain
-    print(f"soak: ROS_DOMAIN_ID {os.environ['ROS_DOMAIN_ID']}", flush=True)
+    domain = enter_local_domain()
+    print(f"soak: ROS_DOMAIN_ID {domain}", flush=True)
     version = code_version_with_fingerprint()
     print(f"soak: code {version}; plan {', '.join(str(config) for config in plan)}", flush=True)
     interrupted = threading.Event()  # Ctrl-C: finish the current goal, record what was measured
