@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable
-from typing import ClassVar
 
 from rclpy.clock import Clock, ClockChange, JumpHandle, JumpThreshold, TimeJump
 from rclpy.duration import Duration
@@ -36,6 +35,7 @@ from rclpy.node import Node
 _THRESHOLD = JumpThreshold(min_forward=Duration(nanoseconds=1), min_backward=Duration(nanoseconds=-1),
                            on_clock_change=True)
 _ORDER = itertools.count()  # creation order: ties between slots of one time go to the older timer
+_DRIVER_ATTRIBUTE = "_navsuite_clock_driver"  # where a clock keeps its _ClockDriver
 
 
 class ClockTimer:
@@ -116,9 +116,16 @@ class ClockTimer:
 
 
 class _ClockDriver:
-    """The jump callback of one clock, and the timers it calls."""
+    """The jump callback of one clock, and the timers it calls.
 
-    _drivers: ClassVar[dict[int, _ClockDriver]] = {}  # id(clock) -> its driver, while it has timers
+    The driver lives on its clock (an attribute), not in a registry of this module: a registry kept
+    every clock, timer and node it had seen alive, and with them their nodes' DDS participants. A
+    node's clock stops jumping when the node is destroyed, so its timers were never pruned; a test
+    worker collected about thirty participants, and localhost discovery then stopped finding new
+    processes (CI runs 18 and 19: a stack's nav2 never heard /clock). Now clock, driver, timers and
+    node form one cycle that the garbage collector frees with the node. rclpy's clock keeps only a
+    borrowed pointer to the jump handle, which is why the driver holds it.
+    """
 
     def __init__(self, clock: Clock) -> None:
         self.clock = clock
@@ -127,12 +134,15 @@ class _ClockDriver:
 
     @classmethod
     def of(cls, clock: Clock) -> _ClockDriver:
-        driver = cls._drivers.get(id(clock))
-        if driver is None or driver.clock is not clock:
-            driver = cls._drivers[id(clock)] = cls(clock)
+        driver: _ClockDriver | None = getattr(clock, _DRIVER_ATTRIBUTE, None)
+        if driver is None:
+            driver = cls(clock)
+            setattr(clock, _DRIVER_ATTRIBUTE, driver)
         return driver
 
     def add(self, timer: ClockTimer) -> None:
+        for gone in [t for t in self.timers if not _node_alive(t.node)]:  # a destroyed node owes nothing
+            gone.destroy()
         self.timers.append(timer)
         if self._handle is None:
             self._handle = self.clock.create_jump_callback(_THRESHOLD, post_callback=self._on_jump)
@@ -140,12 +150,9 @@ class _ClockDriver:
     def remove(self, timer: ClockTimer) -> None:
         if timer in self.timers:
             self.timers.remove(timer)
-        if not self.timers:
-            if self._handle is not None:
-                self._handle.unregister()
-                self._handle = None
-            if self._drivers.get(id(self.clock)) is self:
-                del self._drivers[id(self.clock)]
+        if not self.timers and self._handle is not None:
+            self._handle.unregister()
+            self._handle = None
 
     def _on_jump(self, jump: TimeJump) -> None:
         now_ns = self.clock.now().nanoseconds
