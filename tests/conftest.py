@@ -127,6 +127,8 @@ def pytest_collection_finish(session: pytest.Session) -> None:
     gc.freeze()
 
 
+#: DDS participants a test worker may hold between tests before a test says so (helpers/dds_participants.py)
+PARTICIPANTS_WARN = 8
 _shutdowns = [0]  # rclpy contexts shut down since the last release (see _count_context_shutdowns)
 
 
@@ -178,3 +180,10 @@ def _release_dds_participants() -> Iterator[None]:
 
         _shutdowns[0] = 0
         release_dds_participants()
+    from tests.helpers.dds_participants import own_participants
+
+    held = own_participants(int(os.environ["ROS_DOMAIN_ID"]))
+    if held > PARTICIPANTS_WARN:
+        warnings.warn(f"this test worker holds {held} DDS participants after the test (at about 30, new "
+                      "processes of its domain are no longer discovered): something keeps a node alive",
+                      stacklevel=1)
