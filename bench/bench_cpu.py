@@ -63,7 +63,7 @@ PROCESS_NAMES = (
     ("sim2d.ros.cli", "sim2d"),
     ("initial_pose_publisher", "initial_pose"),
     ("ros_tools.bag", "recorder"),
-    ("nav_stack.ros.bringup", "nav-bringup (launcher)"),
+    ("nav_stack.ros.bringup.nav_bringup", "nav-bringup (launcher)"),
     ("nav-bringup", "nav-bringup (launcher)"),
 )
 #: the Nav2 node processes, summed as one row (one process after, two before)
@@ -228,7 +228,7 @@ def before_env(base: dict[str, str]) -> dict[str, str]:
 
 def verify_imports(env: dict[str, str], cwd: Path, root: Path) -> None:
     """Fail unless every package (and the demo and bringup modules) is imported from ``root``."""
-    modules = [*PACKAGES, DEMO_MODULE, "nav_stack.ros.bringup", "sim2d.ros.cli"]
+    modules = [*PACKAGES, DEMO_MODULE, "nav_stack.ros.bringup.nav_bringup", "sim2d.ros.cli"]
     code = "import importlib\n" + "".join(
         f"print(importlib.import_module({m!r}).__file__)\n" for m in modules)
     out = subprocess.run([sys.executable, "-c", code], cwd=cwd, env=env, capture_output=True, text=True,

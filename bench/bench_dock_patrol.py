@@ -240,7 +240,7 @@ def main() -> int:
     import yaml
 
     from bench.nav_session import Stack
-    from nav_stack.ros.robot_params import params_for_robot
+    from nav_stack.ros.bringup.robot_params import params_for_robot
 
     args = _parser().parse_args()
     domain = enter_local_domain()

@@ -221,7 +221,7 @@ def record_rows(bench: Benchmark, records: list[DockingRecord], collisions: int,
 
 
 def main() -> int:
-    from nav_stack.ros.robot_params import params_for_robot
+    from nav_stack.ros.bringup.robot_params import params_for_robot
 
     args = _parser().parse_args()
     domain = enter_local_domain()

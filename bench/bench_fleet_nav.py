@@ -224,7 +224,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _start_fleet(args: argparse.Namespace) -> subprocess.Popen[str]:
-    command = [sys.executable, "-m", "nav_stack.ros.bringup", "--robots", str(args.robots),
+    command = [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup", "--robots", str(args.robots),
                "--world", args.world, "--robot", args.robot, "--rtf", "max",
                "--log-dir", str(REPO / "artifacts" / "logs" / "bench_fleet_nav"),
                *(["--params", str(args.params)] if args.params else [])]
@@ -247,7 +247,7 @@ def _stop_fleet(process: subprocess.Popen[str]) -> None:
 
 
 def main() -> int:
-    from nav_stack.ros.bringup import parse_args
+    from nav_stack.ros.bringup.nav_bringup import parse_args
 
     args = _parser().parse_args()
     domain = enter_local_domain()

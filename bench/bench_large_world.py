@@ -42,7 +42,7 @@ BUDGET_WARNING = "of expected_planner_frequency"  # planner_server's warning whe
 
 
 def _parser() -> argparse.ArgumentParser:
-    from nav_stack.ros.robot_params import ROBOTS
+    from nav_stack.ros.bringup.robot_params import ROBOTS
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--goals", type=int, default=5)
@@ -129,8 +129,8 @@ def cpu_per_process(sampler: Sampler) -> dict[str, float]:
 
 
 def main() -> int:
-    from nav_stack.ros.robot_params import params_for_robot
-    from nav_stack.ros.world_defaults import world_defaults
+    from nav_stack.ros.bringup.robot_params import params_for_robot
+    from nav_stack.ros.bringup.world_defaults import world_defaults
 
     args = _parser().parse_args()
     domain = enter_local_domain()

@@ -96,7 +96,7 @@ def demo_command(rtf: str, lockstep: bool = True, python: str = sys.executable,
     if waypoint2:
         command += ["--waypoint2", waypoint2]
     if not lockstep:
-        command += ["--bringup", f"{shlex.quote(python)} -m nav_stack.ros.bringup --no-lockstep"]
+        command += ["--bringup", f"{shlex.quote(python)} -m nav_stack.ros.bringup.nav_bringup --no-lockstep"]
     return command
 
 

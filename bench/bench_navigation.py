@@ -4,7 +4,7 @@ By default nav-bringup runs in lockstep at ``--rtf max``: the simulator runs as 
 up (``--rtf 1`` for real time, ``--no-lockstep`` to let the simulator follow the wall clock alone).
 
 ``--world`` and ``--robot`` choose the world (its map maps/<world>.yaml, its first spawn) and the
-robot (its parameter file, nav_stack.ros.robot_params, unless ``--params`` names one); the defaults
+robot (its parameter file, nav_stack.ros.bringup.robot_params, unless ``--params`` names one); the defaults
 are turtlebot3_world and the waffle.
 
 Goals are sampled (seeded) among free map cells with >= 0.4 m clearance to any occupied or unknown
@@ -54,7 +54,7 @@ DEFAULT_WORLD, DEFAULT_ROBOT = "turtlebot3_world", "waffle"
 
 
 def _parser() -> argparse.ArgumentParser:
-    from nav_stack.ros.robot_params import ROBOTS
+    from nav_stack.ros.bringup.robot_params import ROBOTS
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--goals", type=int, default=50)
@@ -107,8 +107,8 @@ def _record(bench: Benchmark, run: GoalRun, note: str) -> None:
 
 
 def main() -> int:
-    from nav_stack.ros.robot_params import params_for_robot
-    from nav_stack.ros.world_defaults import world_defaults
+    from nav_stack.ros.bringup.robot_params import params_for_robot
+    from nav_stack.ros.bringup.world_defaults import world_defaults
 
     args = _parser().parse_args()
     params: Path = args.params or params_for_robot(args.robot)

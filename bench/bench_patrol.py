@@ -1,8 +1,8 @@
 """Battery patrol timing: one patrol cycle of the seed's tree in the simulator with the real stack.
 
 A cycle is location1..4 with the counter battery (root FAILURE at check_battery4), timed by
-autonomy_node on the node clock (sim s) and by this process (wall s, node start to exit, including
-its startup). Needs ``nav-bringup`` (nav_stack.ros.bringup); without it that part is skipped with a
+autonomy_node on the node clock (sim s) and by this process (wall s, node start to exit, including its
+startup). Needs ``nav-bringup`` (nav_stack.ros.bringup.nav_bringup); without it that part is skipped with a
 message. Always measured: the cost of one tick of the seed tree with the pure seed nodes and a fake
 navigator (the node's own overhead per 0.5 s tick).
 
@@ -49,7 +49,8 @@ def bench_cycle(bench: Benchmark, rtf: str, repeat: int) -> None:
     from navsuite_testing.autonomy.system import run_autonomy, set_initial_pose, stack_available, start_stack
 
     if not stack_available():
-        print("bench_patrol: nav_stack.ros.bringup does not exist: skipping the simulator cycle", flush=True)
+        print("bench_patrol: nav_stack.ros.bringup.nav_bringup does not exist: skipping the simulator cycle",
+              flush=True)
         return
     launcher = start_stack(rtf)
     sim_s: list[float] = []

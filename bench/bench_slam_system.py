@@ -30,8 +30,8 @@ from rclpy.context import Context
 from rclpy.parameter import Parameter
 
 from bench.harness import Benchmark, Stats
-from nav_stack.ros.slam_bringup import slam_processes
-from nav_stack.ros.slam_node import SlamNode
+from nav_stack.ros.slam.slam_bringup import slam_processes
+from nav_stack.ros.slam.slam_node import SlamNode
 from navsuite_testing.nav.world import Harness
 from navsuite_testing.ros import release_dds_participants
 from navsuite_testing.slam.fakes import START, FakeRobot, tour

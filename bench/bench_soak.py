@@ -83,8 +83,8 @@ def _print_goal(record: GoalRecord, config: Config, done_before: int, total: int
 def run_config(config: Config, seed: int, args: argparse.Namespace, done_before: int, total: int,
                stop: threading.Event) -> ConfigResult:
     """Start a stack for ``config``, drive its goals, read memory and battery; stop the stack."""
-    from nav_stack.ros.robot_params import params_for_robot
-    from nav_stack.ros.world_defaults import world_defaults
+    from nav_stack.ros.bringup.robot_params import params_for_robot
+    from nav_stack.ros.bringup.world_defaults import world_defaults
 
     params = params_for_robot(config.robot)
     result = ConfigResult(config)

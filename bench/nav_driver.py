@@ -134,9 +134,9 @@ class Driver:
             sent = self.plan.send_goal_async(request)
             if self._wait(sent, PLAN_ACK_RETRY):
                 break
-            # A dropped goal request (the stack's known lost-request problem, see nav_stack/ros/goal_cli.py
-            # send_until_acknowledged): counted and shown, then sent again so the simulator does not
-            # run for 30 wall s (minutes of sim time at max) while this client waits.
+            # A dropped goal request (the stack's known lost-request problem, see
+            # nav_stack/ros/tools/goal_cli.py send_until_acknowledged): counted and shown, then sent again so
+            # the simulator does not run for 30 wall s (minutes of sim time at max) while this client waits.
             self.lost_requests += 1
             print(f"{self.name}: compute_path_to_pose did not acknowledge a plan request within "
                   f"{PLAN_ACK_RETRY:.0f} s (wall); sending it again", flush=True)

@@ -83,7 +83,7 @@ def ideal_speed(params: Path, robot: str | None = None) -> float:
     cruise speed (RPP ``desired_linear_vel``, MPPI ``vx_max``, DWB ``max_vel_x``, also behind a rotation
     shim), velocity_smoother's ``max_velocity[0]`` when the file configures it, and ``robot``'s own
     limit (sim2d's model; Nav2's file caps MPPI at 0.5 m/s, the waffle drives at 0.26 m/s)."""
-    from nav_stack.ros.plugin_catalog import class_name
+    from nav_stack.ros.bringup.plugin_catalog import class_name
 
     doc = yaml.safe_load(params.read_text())
     try:
@@ -132,9 +132,9 @@ class Stack:
         benchmarks running at once would otherwise write over each other's artifacts/logs/sim2d.log.
         """
         logs = [] if "--log-dir" in extra else ["--log-dir", str(REPO / "artifacts" / "logs" / client)]
-        self.command = [sys.executable, "-m", "nav_stack.ros.bringup", "--world", world, "--robot", robot,
-                        "--rtf", rtf, "--params", str(params), *([] if lockstep else ["--no-lockstep"]),
-                        *logs, *extra]
+        self.command = [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup", "--world", world,
+                        "--robot", robot, "--rtf", rtf, "--params", str(params),
+                        *([] if lockstep else ["--no-lockstep"]), *logs, *extra]
         self.lockstep = lockstep
         self.client = client
         self.process: subprocess.Popen[str] | None = None

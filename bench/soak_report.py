@@ -34,7 +34,7 @@ class Config:
 
 def parse_plan(text: str) -> list[Config]:
     """``world:robot:goals,...`` -> Configs; a ValueError names the item that is wrong and why."""
-    from nav_stack.ros.robot_params import ROBOTS
+    from nav_stack.ros.bringup.robot_params import ROBOTS
 
     configs = []
     for item in (part.strip() for part in text.split(",")):

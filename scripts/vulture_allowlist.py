@@ -11,7 +11,7 @@ from typing import Any
 
 _: Any = None
 
-# 1. rclpy's LifecycleNode calls these transition callbacks by name (nav_stack/ros/lifecycle.py).
+# 1. rclpy's LifecycleNode calls these transition callbacks by name (nav_stack/ros/lifecycle/node.py).
 (_.on_configure, _.on_cleanup, _.on_shutdown, _.on_error)
 
 # 2. ROS message fields we fill for the subscriber at the other end of a topic (or, for _check_fields
@@ -45,7 +45,7 @@ _: Any = None
 (_.location1, _.location2, _.location3, _.location4)
 
 # 10. Nav2 parameters accepted so a Nav2 file loads and never read: each dataclass's IGNORED lists them,
-#     nav_stack/ros/params.py warns at startup, docs/nav2-differences.md has the table.
+#     nav_stack/ros/common/params.py warns at startup, docs/nav2-differences.md has the table.
 (_.save_pose_rate, _.initial_pose_z, _.subscribe_to_updates)
 
 # 11. SMACC2's public API in snake_case, for users' own clients, behaviors and states: kept whether or not a

@@ -10,7 +10,7 @@ A fleet file is a YAML list (or a mapping with a ``robots:`` list) of::
 
 ``model`` defaults to the launch's ``--robot`` and ``yaw`` to 0. A robot's name becomes its ROS
 namespace (``/robot1``), so it must be a ROS 2 name token. The names of the robot models are the
-caller's (nav_stack/ros/robot_params.py restates sim2d's), since the core imports neither.
+caller's (nav_stack/ros/bringup/robot_params.py restates sim2d's), since the core imports neither.
 Geometry against the world (a spawn inside a wall, two robots overlapping) is the simulator's to
 refuse: it knows the exact shapes.
 

@@ -21,13 +21,13 @@ VISITED_LINE = re.compile(r"finished \d+ cycles; visited: (.*)$")
 
 
 def stack_available() -> bool:
-    """True when the real stack (nav_stack.ros.bringup) exists."""
-    return importlib.util.find_spec("nav_stack.ros.bringup") is not None
+    """True when the real stack (nav_stack.ros.bringup.nav_bringup) exists."""
+    return importlib.util.find_spec("nav_stack.ros.bringup.nav_bringup") is not None
 
 
 def bringup_command(rtf: str, extra: Sequence[str] = ()) -> list[str]:
     exe = shutil.which("nav-bringup")
-    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
+    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup"]
     return [*base, "--rtf", rtf, *extra]
 
 

@@ -36,8 +36,8 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import Empty, Trigger
 
 from nav_stack.core.geometry import angle_diff
-from nav_stack.ros.conversions import pose_from_2d
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import pose_from_2d
+from nav_stack.ros.common.qos import LATCHED
 from navsuite_testing.localization.nodes import MAP_YAML, call
 from navsuite_testing.ros import connected, spin_until, start_python, stop_process
 from ros_tools.geometry import yaw_of
@@ -217,9 +217,11 @@ class TourRun:
                 "--world", "turtlebot3_world", "--robot", "waffle", "--rtf", str(self.rtf), "--seed",
                 str(self.seed), "--x", str(START[0]), "--y", str(START[1]), "--yaw", str(START[2]),
                 "--lockstep-participants", f"amcl,{DRIVER_ROLE}", *self.sim_args]),
-            "map_server": start_python("nav_stack.ros.map_server", ["--ros-args", "--params-file", params]),
-            "amcl": start_python("nav_stack.ros.amcl_node", ["--ros-args", "--params-file", params]),
-            "manager": start_python("nav_stack.ros.lifecycle_manager", [
+            "map_server": start_python("nav_stack.ros.localization.map_server",
+                                       ["--ros-args", "--params-file", params]),
+            "amcl": start_python("nav_stack.ros.localization.amcl_node",
+                                 ["--ros-args", "--params-file", params]),
+            "manager": start_python("nav_stack.ros.lifecycle.lifecycle_manager", [
                 "--ros-args", "-r", "__node:=lifecycle_manager_localization", "--params-file", params]),
         }
         probe = Node("tour_driver", context=self.context)

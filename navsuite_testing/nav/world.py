@@ -27,7 +27,7 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import Empty
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import occupancy_msg
+from nav_stack.ros.common.conversions import occupancy_msg
 from navsuite_testing.ros import REPO, start_python, stop_process, wait_until
 from ros_tools.geometry import yaw_of
 from ros_tools.runtime.actions import send_until_acknowledged

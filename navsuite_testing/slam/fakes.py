@@ -21,7 +21,7 @@ from sensor_msgs.msg import LaserScan as LaserScanMsg
 from nav_stack.core.geometry import Pose2D, compose
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.slam import inverse
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.qos import DEFAULT
 from navsuite_testing.slam.world import World, hexagon_world, interpolate
 from ros_tools.tf import Transform
 from ros_tools.tf.ros import StaticTransformBroadcaster, TransformBroadcaster, transform_to_msg

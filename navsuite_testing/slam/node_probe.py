@@ -17,8 +17,8 @@ from nav_msgs.msg import OccupancyGrid
 from rclpy.node import Node
 from std_srvs.srv import SetBool
 
-from nav_stack.ros.qos import LATCHED
-from nav_stack.ros.slam_node import SlamNode
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.slam.slam_node import SlamNode
 from navsuite_testing.ros import wait_until
 from navsuite_testing.slam.fakes import FakeRobot
 from ros_tools.tf.buffer import TransformError

@@ -2,7 +2,7 @@
 
 Shared by tests/system/test_slam_exploration.py and bench/bench_slam_system.py. Processes start
 through ros_tools.launch.Launcher in nav-bringup's order. The stack is composed here from the
-server modules (each ``--autostart``) and nav_stack.ros.slam_bringup.slam_processes, the function
+server modules (each ``--autostart``) and nav_stack.ros.slam.slam_bringup.slam_processes, the function
 ``nav-bringup --slam`` uses; once nav-bringup exists the navigation half could come from it.
 Output lines are kept (``lines``) so a failing test can show them and a run can be parsed.
 """
@@ -20,7 +20,7 @@ import numpy as np
 
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.bringup_components import COMPONENT_READY, component_role
+from nav_stack.ros.bringup.bringup_components import COMPONENT_READY, component_role
 from navsuite_testing.ros import REPO
 from navsuite_testing.slam.world import dilate
 from ros_tools.launch import Launcher, ProcessSpec
@@ -28,7 +28,11 @@ from ros_tools.launch import Launcher, ProcessSpec
 PARAMS_FILE = REPO / "config" / "nav2_params.yaml"
 REFERENCE_MAP = REPO / "maps" / "turtlebot3_world.yaml"
 START = (-2.0, -0.5, 0.0)
-NAV_SERVERS = ("planner_server", "controller_server", "behavior_server", "bt_navigator")
+#: node name -> its module
+NAV_SERVERS = {"planner_server": "nav_stack.ros.planning.planner_server",
+               "controller_server": "nav_stack.ros.control.controller_server",
+               "behavior_server": "nav_stack.ros.behaviors.behavior_server",
+               "bt_navigator": "nav_stack.ros.navigator.bt_navigator"}
 
 
 def _py(module: str, *args: str) -> list[str]:
@@ -48,7 +52,7 @@ def sim_spec(rtf: float | str, seed: int = 0, participants: Sequence[str] = ()) 
 def nav_specs() -> list[ProcessSpec]:
     """The navigation servers on sim time, each bringing itself up (lifecycle_manager_navigation's job)."""
     ros = ["--ros-args", "--params-file", str(PARAMS_FILE), "-p", "use_sim_time:=true"]
-    return [ProcessSpec(name, _py(f"nav_stack.ros.{name}", "--autostart", *ros)) for name in NAV_SERVERS]
+    return [ProcessSpec(name, _py(module, "--autostart", *ros)) for name, module in NAV_SERVERS.items()]
 
 
 def saved_map_specs(map_yaml: Path) -> list[ProcessSpec]:
@@ -61,10 +65,10 @@ def saved_map_specs(map_yaml: Path) -> list[ProcessSpec]:
     process the controller's listener shares AMCL's participant and has it at once.
     """
     return [
-        ProcessSpec("initial_pose", _py("nav_stack.ros.initial_pose_publisher", "--ros-args",
+        ProcessSpec("initial_pose", _py("nav_stack.ros.localization.initial_pose_publisher", "--ros-args",
                                         "-p", "use_sim_time:=true", "-p", f"x:={START[0]}",
                                         "-p", f"y:={START[1]}", "-p", f"yaw:={START[2]}"), required=False),
-        ProcessSpec(component_role("all"), _py("nav_stack.ros.bringup", "component", "all",
+        ProcessSpec(component_role("all"), _py("nav_stack.ros.bringup.nav_bringup", "component", "all",
                                                "--params", str(PARAMS_FILE), "--map", str(map_yaml)),
                     ready=COMPONENT_READY.format(name="all")),
     ]
@@ -101,7 +105,7 @@ def explore(map_file: Path, max_time: float, timeout: float) -> subprocess.Compl
     After ``timeout`` wall s it is killed and returns code -9 with what it printed so far, so that a
     stuck run fails with the explorer's goals in the message rather than at the test's time limit.
     """
-    command = _py("nav_stack.ros.explore", "-f", str(map_file), "--max-time", str(max_time))
+    command = _py("nav_stack.ros.slam.explore", "-f", str(map_file), "--max-time", str(max_time))
     try:
         return subprocess.run(command, cwd=REPO, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired as expired:

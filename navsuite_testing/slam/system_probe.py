@@ -19,7 +19,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import UInt32
 
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.qos import LATCHED
 from navsuite_testing.ros import BackgroundSpin
 from ros_tools.runtime.actions import ActionClient
 from ros_tools.runtime.lockstep import LockstepParticipant

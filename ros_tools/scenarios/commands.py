@@ -31,7 +31,7 @@ from ros_tools.scenarios.schema_fields import MACHINES
 #: console script → module, for an environment where the scripts are not installed next to Python.
 MODULES = {"navsuite-demo": "smacc_py.state_machines.sm_nav2_test_1.demo",
            "sm-battery-patrol": "smacc_py.state_machines.sm_battery_patrol.demo",
-           "nav-bringup": "nav_stack.ros.bringup",
+           "nav-bringup": "nav_stack.ros.bringup.nav_bringup",
            "nav-autonomy": "nav_stack.ros.autonomy.node", "navsuite-bag": "ros_tools.bag.main"}
 #: What the worker records when the mission command does not (navsuite-demo's REPORT + REPLAY topics).
 #: /sim2d/clearance feeds the min_clearance criterion, /collision_monitor_state shows why the robot stopped.

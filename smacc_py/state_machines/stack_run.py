@@ -106,7 +106,7 @@ def bringup_command(rtf: str, custom: str | None = None, machine: str | None = N
     if custom:
         return [*shlex.split(custom), *robot_args, "--rtf", rtf]
     exe = shutil.which("nav-bringup")
-    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup"]
+    base = [exe] if exe else [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup"]
     param_args = [arg for file in params for arg in ("--params", str(Path(file).resolve()))]
     return [*base, *robot_args, *param_args, "--rtf", rtf, *(["--participant", machine] if machine else []),
             *console]
@@ -193,7 +193,8 @@ def stack_stamps(custom: str | None, extra: Sequence[str] = ()) -> bool | None:
     custom stack command (``custom``) that runs nav-bringup the same holds of its own arguments; of any
     other nothing is known: None, the machine follows the robot's type."""
     words = [*shlex.split(custom or ""), *extra]
-    if custom and not any(word.endswith(("nav-bringup", "nav_stack.ros.bringup")) for word in words):
+    bringups = ("nav-bringup", "nav_stack.ros.bringup.nav_bringup")
+    if custom and not any(word.endswith(bringups) for word in words):
         return None
     return "--no-lockstep" not in words and "--unstamped-cmd-vel" not in words
 

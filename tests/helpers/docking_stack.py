@@ -17,7 +17,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.core.geometry import Pose2D
-from nav_stack.ros.docking_server import DockingServer, build_nodes
+from nav_stack.ros.docking.docking_server import DockingServer, build_nodes
 from navsuite_testing.nav.world import Harness, get_result, send_goal
 from navsuite_testing.ros import REPO, wait_until
 from ros_tools.runtime.actions import ActionClient

@@ -21,11 +21,11 @@ READY = "Nav2 is ready"
 
 
 class Bringup:
-    """A running ``python -m nav_stack.ros.bringup`` whose output is collected line by line."""
+    """A running ``python -m nav_stack.ros.bringup.nav_bringup`` whose output is collected line by line."""
 
     def __init__(self, *args: str) -> None:
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", SYSTEM_RTF, *args], cwd=REPO,
+            [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup", "--rtf", SYSTEM_RTF, *args], cwd=REPO,
             env=dict(os.environ), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
             start_new_session=True)
         self.lines: list[str] = []

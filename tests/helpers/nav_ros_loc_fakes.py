@@ -14,8 +14,8 @@ from rclpy.node import Node
 from sensor_msgs.msg import LaserScan
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import occupancy_msg
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import occupancy_msg
+from nav_stack.ros.common.qos import LATCHED
 from navsuite_testing.localization.nodes import MAP_YAML
 from navsuite_testing.nav.fake_lidar import cast_ranges
 from ros_tools.tf.ros import StaticTransformBroadcaster, TransformBroadcaster, transform_to_msg

@@ -24,7 +24,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import UInt32
 
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.qos import LATCHED
 from navsuite_testing.localization.tour import MAX_V, MAX_W, START, TOUR
 from navsuite_testing.ros import REPO, connected, spin_until, start_python, stop_process
 from ros_tools.runtime.lockstep import LockstepParticipant
@@ -63,7 +63,7 @@ def slam_params_file(directory: Path, **overrides: Any) -> Path:
 
 def start_slam(params: Path) -> subprocess.Popen[str]:
     args = ["--autostart", "--ros-args", "--params-file", str(params)]
-    return start_python("nav_stack.ros.slam_node", args)
+    return start_python("nav_stack.ros.slam.slam_node", args)
 
 
 def start_sim(rtf: float | str, seed: int = 0) -> subprocess.Popen[str]:

@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 import yaml
 
-pytest.importorskip("nav_stack.ros.bringup", reason="the stack does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup", reason="the stack does not exist yet")
 
 from action_msgs.msg import GoalStatus
 from nav2_msgs.action import NavigateToPose
@@ -23,7 +23,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 
-from nav_stack.ros.conversions import pose_stamped
+from nav_stack.ros.common.conversions import pose_stamped
 from navsuite_testing.ros import BackgroundSpin
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant

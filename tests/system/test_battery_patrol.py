@@ -8,7 +8,7 @@
   charge (0.95) and charged at 0.99: with the demo's config/sim2d_battery_patrol.yaml sim2d drains
   2 % per metre, a round is about 3.5 m, and it charges 2 % per s parked within 0.4 m of the station.
 
-Slow. Skipped until nav_stack.ros.bringup exists.
+Slow. Skipped until nav_stack.ros.bringup.nav_bringup exists.
 """
 
 from __future__ import annotations
@@ -18,7 +18,8 @@ import sys
 
 import pytest
 
-pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
+                    reason="nav-bringup (nav_stack.ros.bringup.nav_bringup) does not exist yet")
 
 from navsuite_testing.autonomy.system import run_autonomy, set_initial_pose, start_stack
 from navsuite_testing.ros import REPO, SYSTEM_RTF

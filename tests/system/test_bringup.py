@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from nav_stack.ros import bringup
+from nav_stack.ros.bringup import nav_bringup as bringup
 from tests.helpers.nav_ros_bt_stack import READY, Bringup, wait
 from tests.helpers.process_tree import child_pids, cmdline
 
@@ -165,8 +165,8 @@ def test_a_broken_map_ends_the_launch_with_the_cause_and_the_log_file(tmp_path: 
     broken = tmp_path / "broken.yaml"
     broken.write_text("image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
                       "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
-    command = [sys.executable, "-m", "nav_stack.ros.bringup", "--rtf", "max", "--map", str(broken),
-               "--log-dir", str(tmp_path / "logs")]
+    command = [sys.executable, "-m", "nav_stack.ros.bringup.nav_bringup", "--rtf", "max",
+               "--map", str(broken), "--log-dir", str(tmp_path / "logs")]
     done = subprocess.run(command, capture_output=True, text=True, timeout=120.0)
     assert done.returncode == 1, done.stdout + done.stderr
     assert f"map image {tmp_path / 'nowhere.pgm'} does not exist" in done.stdout, done.stdout

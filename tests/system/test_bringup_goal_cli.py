@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from nav_stack.ros.goal_cli import load_waypoints
+from nav_stack.ros.tools.goal_cli import load_waypoints
 from navsuite_testing.ros import REPO, BackgroundSpin, start_python, stop_process, wait_until
 
 
@@ -51,11 +51,11 @@ def navigator(ros_context) -> Iterator[object]:
 
 @pytest.mark.ros
 def test_goto_prints_the_result_exits_by_outcome_and_ctrl_c_cancels(navigator):
-    ok = start_python("nav_stack.ros.goal_cli", ["goto", "1.0", "2.0", "0.5"])
+    ok = start_python("nav_stack.ros.tools.goal_cli", ["goto", "1.0", "2.0", "0.5"])
     assert ok.wait(timeout=60) == 0, stop_process(ok)
     assert "result: SUCCEEDED (error_code 0)" in ok.stdout.read()
     navigator.failing.add((3.0, 1.0))
-    failed = start_python("nav_stack.ros.goal_cli", ["goto", "3.0", "1.0"])
+    failed = start_python("nav_stack.ros.tools.goal_cli", ["goto", "3.0", "1.0"])
     assert failed.wait(timeout=60) == 1
     assert "result: ABORTED (error_code 208): scripted failure" in failed.stdout.read()
 
@@ -63,7 +63,7 @@ def test_goto_prints_the_result_exits_by_outcome_and_ctrl_c_cancels(navigator):
     # test's server until DDS notices it left).
     navigator.goals.clear()
     navigator.hold = True
-    proc = start_python("nav_stack.ros.goal_cli", ["goto", "1.0", "0.0"])
+    proc = start_python("nav_stack.ros.tools.goal_cli", ["goto", "1.0", "0.0"])
     try:
         wait_until(lambda: len(navigator.goals) == 1, 60.0, "the goal to arrive")
         proc.send_signal(signal.SIGINT)

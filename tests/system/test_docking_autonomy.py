@@ -11,7 +11,7 @@ charge rises to ``charged_threshold`` (RechargeBattery), UndockRobot backs off t
 cycle lines and trace, docking_server's results in the stack's log, /battery_state and sim2d's ground
 truth (a probe in this process).
 
-Slow. Skipped until nav_stack.ros.bringup exists.
+Slow. Skipped until nav_stack.ros.bringup.nav_bringup exists.
 """
 
 from __future__ import annotations
@@ -26,7 +26,8 @@ from typing import Any
 import pytest
 import yaml
 
-pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
+                    reason="nav-bringup (nav_stack.ros.bringup.nav_bringup) does not exist yet")
 
 from nav_msgs.msg import Odometry
 from rclpy.executors import SingleThreadedExecutor

@@ -4,7 +4,7 @@ low within its first round, docks with CbDockRobot (DockRobot succeeds only once
 CHARGING), charges until the charged threshold (the charge rose from <= 20 % to >= 30 %), undocks with
 CbUndockRobot and resumes the interrupted leg to finish the round.
 
-Slow. Skipped until nav_stack.ros.bringup exists.
+Slow. Skipped until nav_stack.ros.bringup.nav_bringup exists.
 """
 
 from __future__ import annotations
@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
+                    reason="nav-bringup (nav_stack.ros.bringup.nav_bringup) does not exist yet")
 
 from navsuite_testing.ros import REPO, SYSTEM_RTF
 

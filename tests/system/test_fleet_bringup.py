@@ -111,7 +111,7 @@ def test_two_namespaced_stacks_localize_and_each_robot_reaches_its_goal(ros_cont
         assert "/tf" not in map_to_odom
 
         # robot1 follows nav-goal's goal; meanwhile robot2's BasicNavigator session, as its users write it
-        goal = start_python("nav_stack.ros.goal_cli",
+        goal = start_python("nav_stack.ros.tools.goal_cli",
                             ["--namespace", "robot1", "goto", *map(str, GOALS["robot1"])])
         navigator.set_initial_pose(*SPAWNS["robot2"])
         navigator.wait_until_nav2_active()

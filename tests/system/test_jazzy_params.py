@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-pytest.importorskip("nav_stack.ros.bringup", reason="the stack does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup", reason="the stack does not exist yet")
 
 from nav_stack.core.velocity_smoother import VelocitySmootherParams, check_command_series
 from navsuite_testing.ros import REPO, SYSTEM_RTF

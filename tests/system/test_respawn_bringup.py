@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from nav_stack.ros import bringup
+from nav_stack.ros.bringup import nav_bringup as bringup
 from ros_tools.launch import Launcher, ProcessSpec
 from tests.helpers.fake_processes import dying
 

@@ -1,7 +1,7 @@
 """SLAM system run (seed 001): explore turtlebot3_world without a human, save the map, navigate on it.
 
 Phase 1: sim2d (default drifting odometry) + the SLAM processes of ``nav-bringup --slam``
-(nav_stack.ros.slam_bringup) + the Nav2 servers; ``nav-explore -f <map>`` drives NavigateToPose goals
+(nav_stack.ros.slam.slam_bringup) + the Nav2 servers; ``nav-explore -f <map>`` drives NavigateToPose goals
 from the seeds' spawn (-2.0, -0.5, 0) until no reachable frontier is left, then saves the map.
 
 Map check: the reference maps/turtlebot3_world.yaml also marks the solid blocks' interiors and
@@ -31,16 +31,16 @@ from typing import Any
 
 import pytest
 
-pytest.importorskip("nav_stack.ros.planner_server", reason="the Nav2 servers do not exist yet")
-pytest.importorskip("nav_stack.ros.bt_navigator", reason="the Nav2 servers do not exist yet")
-pytest.importorskip("nav_stack.ros.map_saver", reason="map_saver does not exist yet")
+pytest.importorskip("nav_stack.ros.planning.planner_server", reason="the Nav2 servers do not exist yet")
+pytest.importorskip("nav_stack.ros.navigator.bt_navigator", reason="the Nav2 servers do not exist yet")
+pytest.importorskip("nav_stack.ros.slam.map_saver", reason="map_saver does not exist yet")
 
 from action_msgs.msg import GoalStatus
 from nav2_msgs.action import NavigateToPose
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import pose_stamped
-from nav_stack.ros.slam_bringup import slam_processes
+from nav_stack.ros.common.conversions import pose_stamped
+from nav_stack.ros.slam.slam_bringup import slam_processes
 from navsuite_testing.ros import SYSTEM_RTF, wait_until
 from navsuite_testing.slam.stack import (
     NAV_SERVERS,

@@ -28,7 +28,8 @@ from typing import Any
 
 import pytest
 
-pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
+                    reason="nav-bringup (nav_stack.ros.bringup.nav_bringup) does not exist yet")
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor

@@ -5,7 +5,8 @@ its run report (printed path, a PNG that shows the run; copied to artifacts/) an
 which ``navsuite-bag play`` must put back on the graph with the topics and counts ``info`` lists.
 Reports go to the test's tmp_path, so tests never overwrite a user's artifacts/demo_report.*.
 
-Slow: it starts the whole simulator and navigation stack. Skipped until nav_stack.ros.bringup exists.
+Slow: it starts the whole simulator and navigation stack. Skipped until
+nav_stack.ros.bringup.nav_bringup exists.
 """
 
 from __future__ import annotations
@@ -19,9 +20,10 @@ from pathlib import Path
 import pytest
 from rclpy.context import Context
 
-pytest.importorskip("nav_stack.ros.bringup", reason="nav-bringup (nav_stack.ros.bringup) does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
+                    reason="nav-bringup (nav_stack.ros.bringup.nav_bringup) does not exist yet")
 
-from nav_stack.ros import bringup
+from nav_stack.ros.bringup import nav_bringup as bringup
 from navsuite_testing.ros import REPO, SYSTEM_RTF
 from ros_tools.report.render import AMCL_COLOR, TRUTH_COLOR
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS

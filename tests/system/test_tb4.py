@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 import yaml
 
-pytest.importorskip("nav_stack.ros.bringup", reason="the stack does not exist yet")
+pytest.importorskip("nav_stack.ros.bringup.nav_bringup", reason="the stack does not exist yet")
 
 from action_msgs.msg import GoalStatus
 from builtin_interfaces.msg import Time
@@ -39,7 +39,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import UInt32
 
-from nav_stack.ros.conversions import pose_stamped
+from nav_stack.ros.common.conversions import pose_stamped
 from navsuite_testing.ros import REPO, BackgroundSpin
 from ros_tools.runtime.actions import ActionClient, send_until_acknowledged
 from ros_tools.runtime.lockstep import LockstepParticipant

@@ -7,7 +7,7 @@ canvas pixels that the map is drawn +y up, the robot sits where ground truth say
 with the map walls, the state graph highlights the current state, and that a "Nav2 Goal" click-drag
 publishes /goal_pose. It asserts the goal *publication* only; whether the robot then arrives is
 ``test_robot_reaches_a_goal_clicked_in_the_browser``, which runs only when the nav stack's
-``nav-bringup`` (nav_stack.ros.bringup) exists and skips otherwise.
+``nav-bringup`` (nav_stack.ros.bringup.nav_bringup) exists and skips otherwise.
 
 A screenshot is saved to artifacts/ (gitignored). Needs a ``chromium`` on PATH (Debian's package; the
 same check scripts/setup.sh makes) and the ``playwright`` package (never ``playwright install``); skips
@@ -220,8 +220,9 @@ def test_viewer_draws_the_running_sim_and_publishes_a_clicked_goal(browser, sim,
     page.screenshot(path=str(ARTIFACTS / "viewer_browser.png"))
 
 
-@pytest.mark.skipif(importlib.util.find_spec("nav_stack.ros.bringup") is None,
-                    reason="needs the nav stack (nav_stack.ros.bringup / nav-bringup) for the arrival check")
+@pytest.mark.skipif(importlib.util.find_spec("nav_stack.ros.bringup.nav_bringup") is None,
+                    reason="needs the nav stack (nav_stack.ros.bringup.nav_bringup / nav-bringup) "
+                           "for the arrival check")
 def drag(page: object, sx: float, sy: float) -> None:
     """Press at (sx, sy) viewport px and drag 60 px to the right (a pose facing +x)."""
     page.mouse.move(sx, sy)

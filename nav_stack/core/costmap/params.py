@@ -56,7 +56,8 @@ class CostmapParams:
     footprint: tuple[Point2, ...] = ()
     footprint_padding: float = 0.01
     # True: the whole grid every publish cycle (the Jazzy yaml's value; Nav2's C++ default is false);
-    # false: the whole grid once, then costmap_updates / costmap_raw_updates (nav_stack.ros.costmap_publisher)
+    # false: the whole grid once, then costmap_updates / costmap_raw_updates
+    # (nav_stack.ros.costmap.costmap_publisher)
     always_send_full_costmap: bool = True
 
     def __post_init__(self) -> None:
@@ -83,7 +84,7 @@ class CostmapParams:
 class StaticLayerParams:
     """nav2_costmap_2d::StaticLayer (``static_layer``)."""
 
-    # Accepted so a Nav2 file loads, never read (nav_stack.ros.params warns at startup).
+    # Accepted so a Nav2 file loads, never read (nav_stack.ros.common.params warns at startup).
     IGNORED: ClassVar[dict[str, str]] = {
         "subscribe_to_updates": "map_updates is not subscribed; a new /map replaces the whole map",
     }

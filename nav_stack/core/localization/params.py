@@ -27,7 +27,7 @@ LASER_MODELS = (LIKELIHOOD_FIELD, LIKELIHOOD_FIELD_PROB, BEAM)
 class AmclParams:
     """Every nav2_amcl parameter the core or the node uses."""
 
-    # Accepted so a Nav2 file loads, never read (nav_stack.ros.params warns at startup).
+    # Accepted so a Nav2 file loads, never read (nav_stack.ros.common.params warns at startup).
     IGNORED: ClassVar[dict[str, str]] = {
         "save_pose_rate": "the estimate is not stored for the next run; set_initial_pose starts it",
         "initial_pose_z": "the filter is planar: a pose has no height",

@@ -28,7 +28,7 @@ from rclpy.node import Node
 
 from nav_stack.ros.autonomy.locations import Location
 from nav_stack.ros.autonomy.seed_nodes import NavOutcome
-from nav_stack.ros.conversions import pose_stamped
+from nav_stack.ros.common.conversions import pose_stamped
 from ros_tools.runtime.action_watch import ServerLossWatch
 from ros_tools.runtime.actions import ACK_RETRY_S, Withdrawals, acknowledged
 from ros_tools.runtime.coroutines import spawn

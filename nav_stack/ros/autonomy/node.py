@@ -47,7 +47,7 @@ from nav_stack.ros.autonomy.locations import check_tree_locations, load_location
 from nav_stack.ros.autonomy.navigator import RosNavigator
 from nav_stack.ros.autonomy.seed_nodes import SeedContext, register_seed_nodes
 from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.params import declare_dataclass
 from navsuite_data import resolve, searched
 from ros_tools.runtime.executor import add_executor_argument
 from ros_tools.runtime.timers import create_periodic_timer

@@ -44,14 +44,14 @@ from nav_stack.core import behaviors
 from nav_stack.core.behaviors import BehaviorParams, BehaviorResult
 from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
 from nav_stack.core.geometry import to_frame
-from nav_stack.ros.conversions import duration_msg, duration_to_seconds, spec_from_info
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.goal_runs import GoalRun, Outcome
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.param_layout import param
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT, LATCHED
+from nav_stack.ros.bringup.param_layout import param
+from nav_stack.ros.common.conversions import duration_msg, duration_to_seconds, spec_from_info
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import DEFAULT, LATCHED
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
@@ -338,7 +338,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.behavior_server [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.behaviors.behavior_server [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role="behavior_server")
 
 

@@ -4,7 +4,7 @@ A component is the set of Nav2-style nodes one process hosts on one executor, as
 ``use_composition``: ``all`` (localization and navigation, the default), or ``localization`` and
 ``navigation`` apart (``nav-bringup --isolated``, and ``navigation`` next to SLAM). Which servers it
 runs, and how their velocity commands chain, comes from the parameter files through
-nav_stack/ros/bringup_plan.py, as nav2_bringup's launch files decide it. The process takes part in
+nav_stack/ros/bringup/bringup_plan.py, as nav2_bringup's launch files decide it. The process takes part in
 lockstep under its role (``nav2`` for ``all``), prints COMPONENT_READY once its lifecycle managers
 are active (the launcher's readiness line), says every WAIT_REPORT_S what it still waits for, and
 ends with exit code 1 when a manager aborts its bringup.
@@ -16,8 +16,8 @@ import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from nav_stack.ros.bringup_plan import BOND_TIMEOUT, BringupPlan, ManagerPlan, plan_bringup
-from nav_stack.ros.namespaced_params import namespace_remaps, namespaced_files, robot_namespace
+from nav_stack.ros.bringup.bringup_plan import BOND_TIMEOUT, BringupPlan, ManagerPlan, plan_bringup
+from nav_stack.ros.bringup.namespaced_params import namespace_remaps, namespaced_files, robot_namespace
 
 COMPONENT_READY = "bringup: component {name} is active"
 #: Nodes that publish velocity commands, each with Nav2's ``enable_stamped_cmd_vel`` (the chain's filters
@@ -37,20 +37,14 @@ def _server_builders(map_yaml: str | None, namespace: str = "") -> dict[str, Cal
     """
     from rclpy.parameter import Parameter
 
-    from nav_stack.ros import (
-        amcl_node,
-        behavior_server,
-        bt_navigator,
-        collision_monitor,
-        controller_server,
-        docking_server,
-        map_server,
-        planner_server,
-        smoother_server,
-        velocity_smoother,
-        waypoint_follower,
-    )
-    from nav_stack.ros.costmap_ros import CostmapROS
+    from nav_stack.ros.behaviors import behavior_server
+    from nav_stack.ros.collision import collision_monitor
+    from nav_stack.ros.control import controller_server, velocity_smoother
+    from nav_stack.ros.costmap.costmap_ros import CostmapROS
+    from nav_stack.ros.docking import docking_server
+    from nav_stack.ros.localization import amcl_node, map_server
+    from nav_stack.ros.navigator import bt_navigator, waypoint_follower
+    from nav_stack.ros.planning import planner_server, smoother_server
 
     overrides = [Parameter("yaml_filename", value=str(map_yaml))] if map_yaml else []
     where: dict[str, Any] = {"namespace": namespace} if namespace else {}
@@ -78,7 +72,7 @@ def _server_builders(map_yaml: str | None, namespace: str = "") -> dict[str, Cal
 
 def _manager_nodes(manager: ManagerPlan, builders: dict[str, Callable[[], list[Any]]],
                    namespace: str = "") -> list[Any]:
-    from nav_stack.ros.lifecycle_manager import LifecycleManager
+    from nav_stack.ros.lifecycle.lifecycle_manager import LifecycleManager
 
     nodes: list[Any] = []
     for name in manager.node_names:
@@ -126,15 +120,15 @@ def run_component(name: str, params: Sequence[str], map_yaml: str | None, execut
     simulator until then and until its costmaps have their map (the stack's bringup takes the same
     sim time however slow the machine). With ``map_from_slam`` the map only comes once the simulator
     runs (SLAM builds it from scans), so the process does not wait for it. With ``stamped_cmd_vel``
-    every velocity command producer it runs publishes TwistStamped, over what the files say (the
-    launch runs a stamped simulator in lockstep: nav_stack/ros/bringup.py). With a ``namespace`` (a
-    fleet's robot, ``robot1``) every node runs under ``/robot1``, the parameter files are rewritten for
-    it and its global topics remapped into it (nav_stack/ros/namespaced_params.py), and the lockstep
-    role is ``robot1/<role>``."""
+    every velocity command producer it runs publishes TwistStamped, over what the files say (the launch runs
+    a stamped simulator in lockstep: nav_stack/ros/bringup/nav_bringup.py). With a ``namespace`` (a fleet's
+    robot, ``robot1``) every node runs under ``/robot1``, the parameter files are rewritten for it and its
+    global topics remapped into it (nav_stack/ros/bringup/namespaced_params.py), and the lockstep role is
+    ``robot1/<role>``."""
     from rclpy.clock import Clock, ClockType
 
-    from nav_stack.ros.costmap_ros import CostmapROS
-    from nav_stack.ros.lifecycle_manager import LifecycleManager
+    from nav_stack.ros.costmap.costmap_ros import CostmapROS
+    from nav_stack.ros.lifecycle.lifecycle_manager import LifecycleManager
     from ros_tools.runtime.lockstep import clock_heard
     from ros_tools.runtime.runner import run_nodes
 

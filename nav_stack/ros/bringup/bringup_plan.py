@@ -27,9 +27,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from nav_stack.ros.config_check import ConfigError, Problem, check_node_names, check_plugins
-from nav_stack.ros.param_files import NavParams
-from nav_stack.ros.plugin_catalog import (
+from nav_stack.ros.bringup.config_check import ConfigError, Problem, check_node_names, check_plugins
+from nav_stack.ros.bringup.param_files import NavParams
+from nav_stack.ros.bringup.plugin_catalog import (
     AVAILABLE_NODES,
     LOCALIZATION_NODES,
     NAVIGATION_NODES,

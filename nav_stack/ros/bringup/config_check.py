@@ -3,7 +3,7 @@
 Why: a Nav2 user's first step is to bring their own ``nav2_params.yaml``. When it names a plugin this
 stack does not have (a controller, a costmap layer, a behavior) or asks a lifecycle manager for a
 server the stack lacks, the node that meets it fails its configure seconds into the launch, with one
-problem at a time. This check reads the files the way rcl will (nav_stack/ros/param_files.py),
+problem at a time. This check reads the files the way rcl will (nav_stack/ros/bringup/param_files.py),
 collects every such problem, and nav-bringup refuses the files with one message that names, for each
 problem, the file, the section, the key, the value and what is supported.
 
@@ -17,8 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from nav_stack.ros.param_files import NavParams
-from nav_stack.ros.plugin_catalog import (
+from nav_stack.ros.bringup.param_files import NavParams
+from nav_stack.ros.bringup.plugin_catalog import (
     AVAILABLE_NODES,
     PLUGIN_LISTS,
     TYPE_PARAMETERS,

@@ -11,8 +11,8 @@ does it:
   waypoint follower and whatever the parameter files add; processes ``robotN/nav2`` (or
   ``robotN/localization`` and ``robotN/navigation`` with ``--isolated``), and ``robotN/initial_pose``;
 * the parameter files are Nav2's multi-robot kind: one set for every robot (``--params``, e.g. Jazzy's
-  ``nav2_multirobot_params_all.yaml``), rewritten per robot (nav_stack/ros/namespaced_params.py).
-  Without ``--params`` each robot gets its model's own file (nav_stack/ros/robot_params.py) and
+  ``nav2_multirobot_params_all.yaml``), rewritten per robot (nav_stack/ros/bringup/namespaced_params.py).
+  Without ``--params`` each robot gets its model's own file (nav_stack/ros/bringup/robot_params.py) and
   config/fleet/robot_namespace_overlay.yaml, which moves its lidar topic into the namespace.
 
 The robots' stacks start side by side (none waits for another's readiness) and lockstep holds the
@@ -36,8 +36,8 @@ from nav_stack.core.fleet_spec import (
     numbered_fleet,
     sim_fleet_entries,
 )
-from nav_stack.ros.bringup_components import COMPONENT_READY, component_role
-from nav_stack.ros.robot_params import ROBOTS, params_for_robot
+from nav_stack.ros.bringup.bringup_components import COMPONENT_READY, component_role
+from nav_stack.ros.bringup.robot_params import ROBOTS, params_for_robot
 from navsuite_data import config_path, resolve, searched
 
 NAMESPACE_OVERLAY = config_path("fleet/robot_namespace_overlay.yaml")
@@ -97,7 +97,7 @@ def default_spawns(world: str, count: int) -> list[tuple[float, float, float]]:
     """``count`` spawn poses in ``world``: its spawns, then free map cells near the first."""
     from nav_stack.core.fleet_spawns import SPAWN_CLEARANCE, free_positions, spread_spawns
     from nav_stack.core.map_io import MapLoadError, load_map
-    from nav_stack.ros.world_defaults import world_defaults
+    from nav_stack.ros.bringup.world_defaults import world_defaults
 
     defaults = world_defaults(world)
     free = None
@@ -120,10 +120,10 @@ def robot_params(args: argparse.Namespace, member: FleetMember) -> list[str]:
 def check_fleet_params(args: argparse.Namespace) -> str | None:
     """Why the fleet's parameter files cannot run (None: they can); warns on stderr about topic settings
     outside a robot's namespace (they read or feed no robot)."""
-    from nav_stack.ros.bringup_plan import OWNED_SECTIONS, plan_bringup
-    from nav_stack.ros.config_check import ConfigError
-    from nav_stack.ros.namespaced_params import foreign_topics, robot_namespace
-    from nav_stack.ros.param_files import ParamFileError
+    from nav_stack.ros.bringup.bringup_plan import OWNED_SECTIONS, plan_bringup
+    from nav_stack.ros.bringup.config_check import ConfigError
+    from nav_stack.ros.bringup.namespaced_params import foreign_topics, robot_namespace
+    from nav_stack.ros.bringup.param_files import ParamFileError
 
     checked: set[tuple[str, ...]] = set()
     for member in args.members:
@@ -148,7 +148,7 @@ def _python_module(module: str, *args: str) -> list[str]:
 
 def fleet_process_specs(args: argparse.Namespace, stamped: bool, respawn_delay: float) -> list[Any]:
     """The ProcessSpecs of a fleet launch, in start order: sim2d, then every robot's processes."""
-    from nav_stack.ros.namespaced_params import namespace_remaps, robot_namespace
+    from nav_stack.ros.bringup.namespaced_params import namespace_remaps, robot_namespace
     from ros_tools.launch import ProcessSpec
 
     members: Sequence[FleetMember] = args.members
@@ -173,7 +173,8 @@ def fleet_process_specs(args: argparse.Namespace, stamped: bool, respawn_delay: 
         params = [arg for path in robot_params(args, member)
                   for arg in ("--params", str(Path(path).resolve()))]
         return ProcessSpec(component_role(name, member.name), _python_module(
-            "nav_stack.ros.bringup", "component", name, "--namespace", member.name, *params, *map_args,
+            "nav_stack.ros.bringup.nav_bringup", "component", name, "--namespace", member.name, *params,
+            *map_args,
             *(["--stamped-cmd-vel"] if stamped else [])),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout,
             respawn=args.respawn, respawn_delay=respawn_delay, ready_before_next=False)
@@ -182,7 +183,8 @@ def fleet_process_specs(args: argparse.Namespace, stamped: bool, respawn_delay: 
         remaps = [arg for rule in [f"__ns:={robot_namespace(member.name)}",
                                    *namespace_remaps(robot_namespace(member.name))] for arg in ("-r", rule)]
         return ProcessSpec(f"{member.name}/initial_pose", _python_module(
-            "nav_stack.ros.initial_pose_publisher", "--ros-args", *remaps, "-p", "use_sim_time:=true",
+            "nav_stack.ros.localization.initial_pose_publisher", "--ros-args", *remaps,
+            "-p", "use_sim_time:=true",
             "-p", f"x:={member.x!r}", "-p", f"y:={member.y!r}", "-p", f"yaw:={member.yaw!r}",
             "-p", f"resend_after_restart:={'true' if args.respawn else 'false'}"),
             ready="AMCL confirmed the initial pose" if args.isolated else None,

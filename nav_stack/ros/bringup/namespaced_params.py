@@ -34,7 +34,7 @@ from typing import Any
 
 import yaml
 
-from nav_stack.ros.param_files import WILDCARD, NavParams
+from nav_stack.ros.bringup.param_files import WILDCARD, NavParams
 
 PLACEHOLDER = "<robot_namespace>"
 #: The global topics this stack's nodes name by absolute name that belong to one robot in a fleet.

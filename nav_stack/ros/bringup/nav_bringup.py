@@ -29,8 +29,8 @@ nav2_bringup's ``use_respawn``: a node process that dies is started again with t
 parameters after RESPAWN_DELAY s (ros_tools.launch's ``respawn``); its lifecycle managers start it up
 again (autostart), or, for a node whose manager lives on, the manager's bond brings the system back
 (``attempt_respawn_reconnection``). The initial-pose publisher then stays up and gives a restarted AMCL
-its last pose (nav_stack/ros/initial_pose_publisher.py says why). A node process that dies more than
-``respawn_max_deaths`` times in a row is given up, and the launch ends. The simulator is never
+its last pose (nav_stack/ros/localization/initial_pose_publisher.py says why). A node process that
+dies more than ``respawn_max_deaths`` times in a row is given up, and the launch ends. The simulator is never
 respawned: a new one cannot restore the world (the robot's pose, spawned obstacles, the battery), so
 its death ends the launch at once, naming it. Without respawn, a process that dies ends the launch
 with its exit code (and its last lines are shown); Ctrl-C stops everything in reverse order. The
@@ -45,11 +45,11 @@ the machine's load. In lockstep with the simulator, velocity commands are stampe
 whatever they say): sim2d applies each at its stamp + ``stamped_cmd_vel_delay``, so when it takes
 effect does not depend on when it crossed DDS (docs/architecture.md, "What repeats").
 ``--unstamped-cmd-vel`` keeps the files' setting and a Twist simulator.
-``python -m nav_stack.ros.bringup component <name> ...`` is the entry point of
-the node processes (nav_stack/ros/bringup_components.py).
+``python -m nav_stack.ros.bringup.nav_bringup component <name> ...`` is the entry point of
+the node processes (nav_stack/ros/bringup/bringup_components.py).
 
 ``--robots N`` or ``--fleet FILE`` launches a fleet instead: one simulator with every robot and one
-namespaced stack per robot (nav_stack/ros/fleet_bringup.py; docs/fleet.md).
+namespaced stack per robot (nav_stack/ros/bringup/fleet_bringup.py; docs/fleet.md).
 """
 
 from __future__ import annotations
@@ -61,8 +61,13 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from nav_stack.ros.bringup_components import COMPONENT_READY, COMPONENTS, component_role, run_component
-from nav_stack.ros.fleet_bringup import (
+from nav_stack.ros.bringup.bringup_components import (
+    COMPONENT_READY,
+    COMPONENTS,
+    component_role,
+    run_component,
+)
+from nav_stack.ros.bringup.fleet_bringup import (
     add_fleet_arguments,
     check_fleet_params,
     fleet_process_specs,
@@ -70,7 +75,7 @@ from nav_stack.ros.fleet_bringup import (
     refuse_one_robot_options,
     resolve_fleet,
 )
-from nav_stack.ros.robot_params import ROBOTS, params_for_robot
+from nav_stack.ros.bringup.robot_params import ROBOTS, params_for_robot
 from navsuite_data import data_root, resolve, searched
 from ros_tools.dds import keep_dds_local
 from ros_tools.runtime.executor import add_executor_argument
@@ -104,7 +109,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="map_server YAML (default: the --world's map, else from --params)")
     parser.add_argument("--params", action="append", default=None, metavar="FILE",
                         help="Nav2 parameter file, e.g. Nav2's own nav2_params.yaml (default: the --robot's, "
-                             "nav_stack.ros.robot_params); repeat it to apply overlays, later files winning")
+                             "nav_stack.ros.bringup.robot_params); repeat it to apply overlays, "
+                             "later files winning")
     parser.add_argument("--sim-params", default=None,
                         help="sim2d parameter file applied over config/sim2d.yaml (e.g. "
                              "config/sim2d_battery_patrol.yaml)")
@@ -149,7 +155,7 @@ def _named_map(files: Sequence[str]) -> str:
     """map_server's ``yaml_filename`` in the parameter files, "" when they set none (Nav2's own file
     leaves it empty: nav2_bringup's ``map`` launch argument fills it). A file that does not parse
     counts as naming none here; the parameter check reports it."""
-    from nav_stack.ros.param_files import NavParams, ParamFileError
+    from nav_stack.ros.bringup.param_files import NavParams, ParamFileError
 
     try:
         return str(NavParams([Path(f) for f in files]).get("map_server", "yaml_filename") or "")
@@ -158,7 +164,8 @@ def _named_map(files: Sequence[str]) -> str:
 
 
 def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
-    """Fill --world, --map and the spawn the user left out from the world (nav_stack.ros.world_defaults).
+    """Fill --world, --map and the spawn the user left out from the world
+    (nav_stack.ros.bringup.world_defaults).
 
     The world's map (an absolute path) replaces the parameter file's ``yaml_filename`` when the user
     chose the world, left --params to the robot's shipped file (its relative
@@ -167,7 +174,7 @@ def _apply_world_defaults(args: argparse.Namespace, own_params: bool) -> None:
     relative ``yaml_filename`` that is not there from the working directory means the shipped map of
     that name (navsuite_data.resolve), so a shipped parameter file given as --params works anywhere.
     """
-    from nav_stack.ros.world_defaults import world_defaults
+    from nav_stack.ros.bringup.world_defaults import world_defaults
 
     chosen, args.world = args.world is not None, args.world or "turtlebot3_world"
     defaults = world_defaults(args.world)
@@ -241,9 +248,9 @@ def check_params(args: argparse.Namespace) -> str | None:
     Runs before any process starts, so a file naming a plugin or a server this stack lacks is refused
     within a second instead of failing a node's configure later, one problem at a time.
     """
-    from nav_stack.ros.bringup_plan import plan_bringup
-    from nav_stack.ros.config_check import ConfigError
-    from nav_stack.ros.param_files import ParamFileError
+    from nav_stack.ros.bringup.bringup_plan import plan_bringup
+    from nav_stack.ros.bringup.config_check import ConfigError
+    from nav_stack.ros.bringup.param_files import ParamFileError
 
     if is_fleet(args):
         return check_fleet_params(args)
@@ -280,18 +287,18 @@ def process_specs(args: argparse.Namespace) -> list[Any]:
     def component(name: str) -> ProcessSpec:
         slam = ["--map-from-slam"] if args.slam else []
         return ProcessSpec(component_role(name), _python_module(
-            "nav_stack.ros.bringup", "component", name, *param_args, *map_args, *slam,
+            "nav_stack.ros.bringup.nav_bringup", "component", name, *param_args, *map_args, *slam,
             *(["--stamped-cmd-vel"] if stamped else [])),
             ready=COMPONENT_READY.format(name=name), ready_timeout=args.ready_timeout,
             respawn=args.respawn, respawn_delay=RESPAWN_DELAY)
 
     initial_pose = ProcessSpec("initial_pose", _python_module(
-        "nav_stack.ros.initial_pose_publisher", "--ros-args", "-p", "use_sim_time:=true",
+        "nav_stack.ros.localization.initial_pose_publisher", "--ros-args", "-p", "use_sim_time:=true",
         "-p", f"x:={args.x}", "-p", f"y:={args.y}", "-p", f"yaw:={args.yaw}",
         "-p", f"resend_after_restart:={'true' if args.respawn else 'false'}"),
         ready="AMCL confirmed the initial pose", ready_timeout=args.ready_timeout, required=False)
     if args.slam:  # Nav2's "navigation with SLAM": slam + map_saver instead of map_server + amcl
-        from nav_stack.ros.slam_bringup import slam_processes
+        from nav_stack.ros.slam.slam_bringup import slam_processes
 
         start = f"map_start_pose:=[{args.x}, {args.y}, {args.yaw}]"  # SLAM's map frame = the world's
         specs.extend(slam_processes(params, extra_ros_args=["-p", start], ready_timeout=args.ready_timeout))
@@ -365,7 +372,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                          help="enable_stamped_cmd_vel: true for every velocity command producer it runs")
         sub.add_argument("--namespace", default="",
                          help="a fleet robot's name: every node under /<name> "
-                              "(nav_stack/ros/fleet_bringup.py)")
+                              "(nav_stack/ros/bringup/fleet_bringup.py)")
         add_executor_argument(sub)
         opts = sub.parse_args(argv[1:])
         return run_component(opts.name, opts.params or [str(DEFAULT_PARAMS)], opts.map, opts.executor,

@@ -16,7 +16,7 @@ from typing import Any
 
 from rclpy.node import Node
 
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.params import declare_dataclass
 
 
 def param(node: Node, name: str, default: Any) -> Any:

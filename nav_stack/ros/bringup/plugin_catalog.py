@@ -1,7 +1,7 @@
 """What this stack can run: its Nav2 servers, and the plugin types each server accepts.
 
 Why one catalog: nav-bringup checks a user's parameter files against it before it starts anything
-(nav_stack/ros/config_check.py), and the servers' plugin factories refuse the same types at
+(nav_stack/ros/bringup/config_check.py), and the servers' plugin factories refuse the same types at
 configure, so the two can never disagree about what is supported. Names are Nav2's class names
 without the package (``nav2_mppi_controller::MPPIController`` → ``MPPIController``); Humble's
 ``pkg/Class`` spelling is accepted too.

@@ -23,7 +23,7 @@ from nav2_msgs.action import (
 from nav_stack.core.bt import PortList, input_port, output_port
 from nav_stack.core.bt.status import NodeStatus
 from nav_stack.ros.bt_nodes.action_node import BtActionNode
-from nav_stack.ros.conversions import duration_msg
+from nav_stack.ros.common.conversions import duration_msg
 
 RECOVERIES_KEY = "number_recoveries"
 

@@ -18,8 +18,8 @@ from rclpy.node import Node
 from nav_stack.core.bt import NodeConfig, PortList, SyncActionNode, input_port, output_port
 from nav_stack.core.bt.status import NodeStatus
 from nav_stack.ros.bt_nodes.context import BtRosContext
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.selectors import Selector
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.common.selectors import Selector
 
 SELECTOR_TOPICS = ("planner_selector", "controller_selector", "goal_checker_selector",
                    "progress_checker_selector")

@@ -30,7 +30,7 @@ from rclpy.action import ActionClient
 from rclpy.client import Client
 from rclpy.node import Node
 
-from nav_stack.ros.frames import Frames
+from nav_stack.ros.common.frames import Frames
 from ros_tools.runtime.lockstep import REQUEST_HOLD, hold_process
 
 

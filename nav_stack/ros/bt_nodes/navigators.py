@@ -26,9 +26,9 @@ from nav2_msgs.action import NavigateThroughPoses, NavigateToPose
 from nav_stack.core.bt import Blackboard
 from nav_stack.core.geometry import cumulative_lengths, nearest_index
 from nav_stack.ros.bt_nodes.actions import RECOVERIES_KEY
-from nav_stack.ros.conversions import duration_msg, path_to_array, pose_stamped
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.localization_guard import untrusted_message
+from nav_stack.ros.common.conversions import duration_msg, path_to_array, pose_stamped
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.navigator.localization_guard import untrusted_message
 from navsuite_data import config_path, resolve
 
 TREES_DIR = config_path("trees")  # the default trees: shipped data (navsuite_data)

@@ -18,7 +18,7 @@ from nav2_msgs.action import SmoothPath
 from nav_stack.core.bt import PortList, input_port, output_port
 from nav_stack.core.bt.status import NodeStatus
 from nav_stack.ros.bt_nodes.action_node import BtActionNode
-from nav_stack.ros.conversions import duration_msg, duration_to_seconds
+from nav_stack.ros.common.conversions import duration_msg, duration_to_seconds
 
 
 class SmoothPathAction(BtActionNode):

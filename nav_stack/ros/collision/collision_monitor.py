@@ -2,13 +2,13 @@
 
 In: ``cmd_vel_in_topic`` (``cmd_vel_smoothed``; Twist, or TwistStamped with
 ``enable_stamped_cmd_vel``), the ``observation_sources`` (LaserScan / PointCloud2, sensor-data QoS),
-TF, and for zones shaped by a topic their PolygonStamped (nav_stack.ros.collision_monitor_sources).
+TF, and for zones shaped by a topic their PolygonStamped (nav_stack.ros.collision.collision_monitor_sources).
 Out: ``cmd_vel_out_topic`` (``cmd_vel``) with the input's header when stamped; ``state_topic``
 (nav2_msgs/CollisionMonitorState, when named) each time the acting polygon changes;
 ``~/collision_points_marker`` (visualization_msgs/MarkerArray, while someone listens: one POINTS marker
 per source, Jazzy's ``collision_points_<source>``); each zone with ``visualize`` on its
 ``polygon_pub_topic`` (geometry_msgs/PolygonStamped; default: the zone's name). Both are built by
-nav_stack.ros.collision_monitor_markers.
+nav_stack.ros.collision.collision_monitor_markers.
 
 A source whose newest data is older than its ``source_timeout`` (or that never published, or that TF
 cannot place) stops the robot as Nav2 does (state ``invalid source``); the warning names the source
@@ -50,13 +50,13 @@ from nav_stack.core.collision_monitor import (
     Zone,
 )
 from nav_stack.core.geometry import FloatArray
-from nav_stack.ros.collision_monitor_markers import collision_points_marker, polygon_stamped
-from nav_stack.ros.collision_monitor_sources import ObservationSource, SourceFrames, ZoneShapeInput
-from nav_stack.ros.frames import Frames
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.collision.collision_monitor_markers import collision_points_marker, polygon_stamped
+from nav_stack.ros.collision.collision_monitor_sources import ObservationSource, SourceFrames, ZoneShapeInput
+from nav_stack.ros.common.frames import Frames
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import DEFAULT
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 
 NODE_NAME = "collision_monitor"
@@ -263,7 +263,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.collision_monitor [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.collision.collision_monitor [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role=NODE_NAME)
 
 

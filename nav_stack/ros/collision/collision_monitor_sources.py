@@ -32,7 +32,7 @@ from nav_stack.core.collision_monitor import (
     within_height,
 )
 from nav_stack.core.geometry import FloatArray
-from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
+from nav_stack.ros.common.qos import DEFAULT, LATCHED, SENSOR
 from ros_tools.tf import ExtrapolationError, Transform, TransformError
 from ros_tools.tf.ros import TransformListener, stamp_to_seconds
 

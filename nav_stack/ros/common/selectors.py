@@ -12,7 +12,7 @@ from __future__ import annotations
 from rclpy.node import Node
 from std_msgs.msg import String
 
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.qos import LATCHED
 
 
 class Selector:

@@ -41,9 +41,9 @@ from nav_stack.core.control.mppi import kernels_jit as mppi_kernels
 from nav_stack.core.control.rotation_shim import RotationShim, RotationShimParams
 from nav_stack.core.control.server import LocalController
 from nav_stack.core.costmap.inflation_layer import InflationLayer
-from nav_stack.ros.param_layout import build, declare_fields, declare_renamed, param
-from nav_stack.ros.params import declare_dataclass, on_dataclass_update
-from nav_stack.ros.plugin_catalog import CONTROLLERS, class_name
+from nav_stack.ros.bringup.param_layout import build, declare_fields, declare_renamed, param
+from nav_stack.ros.bringup.plugin_catalog import CONTROLLERS, class_name
+from nav_stack.ros.common.params import declare_dataclass, on_dataclass_update
 
 DWB_CRITIC_NAMES = {
     "base_obstacle_scale": "BaseObstacle.scale",

@@ -54,19 +54,19 @@ from nav_stack.core.control.follow_path import (
     Takeover,
 )
 from nav_stack.core.costmap import CostmapParams
-from nav_stack.ros.controller_plugins import build_plugins, take_param_updates
-from nav_stack.ros.conversions import path_from_array, path_to_array
-from nav_stack.ros.costmap_params import parse_footprint
-from nav_stack.ros.costmap_ros import CostmapROS, run_transition
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.goal_runs import GoalRun, Outcome
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.mppi_visualization import MPPIVisualization
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT
-from nav_stack.ros.response_monitor import ResponseMonitor
-from nav_stack.ros.selectors import Selector
+from nav_stack.ros.common.conversions import path_from_array, path_to_array
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import DEFAULT
+from nav_stack.ros.common.selectors import Selector
+from nav_stack.ros.control.controller_plugins import build_plugins, take_param_updates
+from nav_stack.ros.control.mppi_visualization import MPPIVisualization
+from nav_stack.ros.control.response_monitor import ResponseMonitor
+from nav_stack.ros.costmap.costmap_params import parse_footprint
+from nav_stack.ros.costmap.costmap_ros import CostmapROS, run_transition
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
@@ -328,7 +328,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.controller_server [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.control.controller_server [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role="controller_server")
 
 

@@ -22,7 +22,7 @@ from nav_stack.core.control import MPPIController
 from nav_stack.core.control.mppi.visualization import trajectory_markers
 from nav_stack.core.control.rotation_shim import RotationShim
 from nav_stack.core.control.server import LocalController
-from nav_stack.ros.conversions import path_from_array
+from nav_stack.ros.common.conversions import path_from_array
 
 #: Jazzy's TrajectoryVisualizer publishers: depth 1, reliable, volatile
 VISUALIZATION_QOS = QoSProfile(depth=1)

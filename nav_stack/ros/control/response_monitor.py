@@ -14,7 +14,7 @@ from sensor_msgs.msg import BatteryState
 
 from nav_stack.core.control import Twist2D
 from nav_stack.core.control.response import ResponseParams, ResponseWatchdog, diagnose, stillness_note
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.qos import DEFAULT
 
 MIN_STALE_S = 0.5  # s: odometry older than max(timeout, this) counts as stopped (30 Hz is normal)
 

@@ -25,10 +25,10 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from nav_stack.core.velocity_smoother import CLOSED_LOOP, CommandSmoother, Velocity, VelocitySmootherParams
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass, on_dataclass_update
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass, on_dataclass_update
+from nav_stack.ros.common.qos import DEFAULT
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.cmd_vel import CMD_VEL_QOS, CmdVelPublisher
 from ros_tools.runtime.timers import create_periodic_timer, nominal_call_ns
 
@@ -139,7 +139,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.velocity_smoother [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.control.velocity_smoother [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role=NODE_NAME)
 
 

@@ -24,8 +24,8 @@ from nav_stack.core.costmap import (
     StaticLayer,
     StaticLayerParams,
 )
-from nav_stack.ros.param_layout import build, declare_fields, param
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.bringup.param_layout import build, declare_fields, param
+from nav_stack.ros.common.params import declare_dataclass
 
 #: ObstacleLayerParams fields Nav2 reads per observation source (``<layer>.<source>.<field>``).
 SOURCE_FIELDS = ("topic", "marking", "clearing", "obstacle_max_range", "obstacle_min_range",

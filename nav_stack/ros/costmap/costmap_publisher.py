@@ -32,8 +32,8 @@ from rclpy.publisher import Publisher
 from nav_stack.core.costmap.layer import CostArray, Window
 from nav_stack.core.costmap.publish import PublishTracker, occupancy_of
 from nav_stack.core.grid import GridSpec
-from nav_stack.ros.conversions import costmap_msg, occupancy_msg
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import costmap_msg, occupancy_msg
+from nav_stack.ros.common.qos import LATCHED
 
 try:  # map_msgs is not among the interface packages every install builds
     from map_msgs.msg import OccupancyGridUpdate

@@ -13,8 +13,8 @@ sim s under use_sim_time, so a busy machine never drops it) and is retried each 
 follow REP 117: -inf (closer than range_min) and NaN are dropped, +inf ("no return") clears up to
 the raytrace range when ``inf_is_valid`` (our yaml enables it).
 
-Out, at ``publish_frequency``, as Nav2's Costmap2DPublisher (nav_stack.ros.costmap_publisher): the full
-``costmap`` (OccupancyGrid) and ``costmap_raw`` (nav2_msgs/Costmap) on activation, to a new subscriber,
+Out, at ``publish_frequency``, as Nav2's Costmap2DPublisher (nav_stack.ros.costmap.costmap_publisher): the
+full ``costmap`` (OccupancyGrid) and ``costmap_raw`` (nav2_msgs/Costmap) on activation, to a new subscriber,
 on resize or a rolling window's move (every cycle with ``always_send_full_costmap``), otherwise
 ``costmap_updates`` / ``costmap_raw_updates`` with the redrawn window only, each only when subscribed;
 ``published_footprint`` (PolygonStamped); all reliable transient local depth 1; services
@@ -49,12 +49,12 @@ from nav_stack.core.costmap import (
     StaticLayer,
 )
 from nav_stack.core.grid import GridSpec
-from nav_stack.ros.conversions import costmap_msg, grid_from_occupancy
-from nav_stack.ros.costmap_params import build_layers, declare_costmap_params
-from nav_stack.ros.costmap_publisher import CostmapPublisher
-from nav_stack.ros.frames import FrameError, Frames, pose_of
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.qos import DEFAULT, LATCHED, SENSOR
+from nav_stack.ros.common.conversions import costmap_msg, grid_from_occupancy
+from nav_stack.ros.common.frames import FrameError, Frames, pose_of
+from nav_stack.ros.common.qos import DEFAULT, LATCHED, SENSOR
+from nav_stack.ros.costmap.costmap_params import build_layers, declare_costmap_params
+from nav_stack.ros.costmap.costmap_publisher import CostmapPublisher
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.timers import create_periodic_timer
 from ros_tools.tf import TransformError
 from ros_tools.tf.ros import stamp_to_seconds

@@ -16,7 +16,7 @@ from nav2_msgs.action import NavigateToPose
 from rclpy.node import Node
 
 from nav_stack.core.docking import StagingGoal
-from nav_stack.ros.conversions import pose_stamped
+from nav_stack.ros.common.conversions import pose_stamped
 from ros_tools.runtime.actions import ActionClient, acknowledged
 from ros_tools.runtime.coroutines import until
 from ros_tools.runtime.waiting import sleep, steady_clock

@@ -40,10 +40,10 @@ from nav_stack.core.docking import (
 )
 from nav_stack.core.docking.spatial import Pose3D
 from nav_stack.core.geometry import Pose2D
-from nav_stack.ros.conversions import pose_stamped
-from nav_stack.ros.param_layout import param
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.plugin_catalog import class_name
+from nav_stack.ros.bringup.param_layout import param
+from nav_stack.ros.bringup.plugin_catalog import class_name
+from nav_stack.ros.common.conversions import pose_stamped
+from nav_stack.ros.common.params import declare_dataclass
 from ros_tools.tf.ros import stamp_to_seconds
 
 #: Nav2 plugin class → whether it charges.

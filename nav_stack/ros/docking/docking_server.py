@@ -40,16 +40,21 @@ from nav_stack.core.docking import (
     UndockRequest,
 )
 from nav_stack.core.geometry import Pose2D, yaw_or_nan
-from nav_stack.ros.conversions import duration_msg
-from nav_stack.ros.docking_navigator import StagingNavigator
-from nav_stack.ros.docking_plugins import DockPlugin, declare_dynamic, docks_from_parameters, reload_handler
-from nav_stack.ros.docking_world import RosDockingWorld
-from nav_stack.ros.frames import Frames
-from nav_stack.ros.goal_runs import GoalRun, Outcome
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.param_layout import build, declare_fields
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.bringup.param_layout import build, declare_fields
+from nav_stack.ros.common.conversions import duration_msg
+from nav_stack.ros.common.frames import Frames
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.docking.docking_navigator import StagingNavigator
+from nav_stack.ros.docking.docking_plugins import (
+    DockPlugin,
+    declare_dynamic,
+    docks_from_parameters,
+    reload_handler,
+)
+from nav_stack.ros.docking.docking_world import RosDockingWorld
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.cmd_vel import CmdVelPublisher
 from ros_tools.runtime.actions import ActionServer
 from ros_tools.runtime.coroutines import spawn
@@ -272,7 +277,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.docking_server [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.docking.docking_server [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role=NODE_NAME)
 
 

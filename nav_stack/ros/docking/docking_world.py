@@ -21,10 +21,10 @@ from rclpy.node import Node
 from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
 from nav_stack.core.docking import Detection, DockingControllerParams, FrameUnavailable, Obstacles, Pose3D
 from nav_stack.core.geometry import Pose2D, compose, to_frame
-from nav_stack.ros.conversions import spec_from_info
-from nav_stack.ros.costmap_params import parse_footprint
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import spec_from_info
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.costmap.costmap_params import parse_footprint
 from ros_tools.tf import Transform, TransformError
 
 

@@ -49,9 +49,9 @@ from rclpy.node import Node
 from rclpy.timer import Timer
 from std_srvs.srv import Trigger
 
-from nav_stack.ros.lifecycle import BOND_QOS, BOND_TOPIC
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.lifecycle.node import BOND_QOS, BOND_TOPIC
 from ros_tools.runtime.coroutines import create_async_service, in_task, spawn
 from ros_tools.runtime.executor import reentrant_default_group
 from ros_tools.runtime.requests import SERVICE_RETRY_S, call_service

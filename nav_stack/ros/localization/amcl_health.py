@@ -24,8 +24,8 @@ from rclpy.clock import Clock, ClockType
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.localization import Amcl, PoseEstimate
 from nav_stack.core.localization.health import HealthMonitor, HealthParams, LocalizationState, measure
-from nav_stack.ros.amcl_messages import DIAGNOSTICS_TOPIC, health_msg
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.qos import DEFAULT
+from nav_stack.ros.localization.amcl_messages import DIAGNOSTICS_TOPIC, health_msg
 
 REPUBLISH_PERIOD = 1.0  # s (wall), diagnostic_updater's default period
 

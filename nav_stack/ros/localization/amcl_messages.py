@@ -14,7 +14,7 @@ from nav2_msgs.msg import Particle, ParticleCloud
 from rclpy.time import Time
 
 from nav_stack.core.localization.health import HealthMonitor, LocalizationState
-from nav_stack.ros.conversions import pose_from_2d
+from nav_stack.ros.common.conversions import pose_from_2d
 
 #: Where (x, y, yaw) covariance entries sit in a 6×6 row-major (x, y, z, roll, pitch, yaw) one.
 COVARIANCE_INDEX = {0: (0, 0), 1: (0, 1), 6: (1, 0), 7: (1, 1), 35: (2, 2)}

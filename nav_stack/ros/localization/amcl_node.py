@@ -54,14 +54,19 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.localization import Amcl, AmclParams, PoseEstimate, map_to_odom
 from nav_stack.core.localization.params import LIKELIHOOD_FIELD_PROB
-from nav_stack.ros.amcl_health import HealthReport
-from nav_stack.ros.amcl_messages import covariance_3x3, estimate_msg, particle_cloud_msg, time_msg
-from nav_stack.ros.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_seed
-from nav_stack.ros.conversions import grid_from_occupancy, pose_to_2d
-from nav_stack.ros.frames import pose_of
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
+from nav_stack.ros.common.conversions import grid_from_occupancy, pose_to_2d
+from nav_stack.ros.common.frames import pose_of
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.qos import DEFAULT, LATCHED, PARTICLE_CLOUD
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
+from nav_stack.ros.localization.amcl_health import HealthReport
+from nav_stack.ros.localization.amcl_messages import (
+    covariance_3x3,
+    estimate_msg,
+    particle_cloud_msg,
+    time_msg,
+)
+from nav_stack.ros.localization.amcl_params import DEFAULT_SEED, load_health_params, load_params, random_seed
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
 from ros_tools.tf.ros import TransformBroadcaster, TransformListener, stamp_to_seconds, transform_to_msg
 from ros_tools.tf.transform import Transform

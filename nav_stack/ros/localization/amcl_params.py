@@ -11,8 +11,8 @@ from typing import Any
 
 from nav_stack.core.localization import AmclParams
 from nav_stack.core.localization.health import HealthParams
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 
 DEFAULT_SEED = 0  # the particle filter's random seed unless ``random_seed`` says otherwise
 HEALTH_PREFIX = "health."  # HealthParams fields are ``health.<field>`` under amcl

@@ -46,10 +46,10 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
 from nav_stack.core.geometry import angle_diff, compose, yaw_or_nan
-from nav_stack.ros.conversions import pose_from_2d
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT, LATCHED
+from nav_stack.ros.common.conversions import pose_from_2d
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import DEFAULT, LATCHED
 from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
 NODE_NAME = "amcl_init_pose_publisher"

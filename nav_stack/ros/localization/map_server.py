@@ -28,11 +28,11 @@ from rclpy.publisher import Publisher
 from rclpy.service import Service
 
 from nav_stack.core.map_io import LoadMapResult, MapLoadError, OccupancyMap, load_map
-from nav_stack.ros.conversions import occupancy_msg
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import occupancy_msg
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 
 NODE_NAME = "map_server"
 

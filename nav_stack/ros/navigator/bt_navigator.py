@@ -23,8 +23,8 @@ when none is set: a failed goal never ends with 0; a goal in an empty or unknown
 with TF_ERROR, 9002), e.g.
 "'compute_path_to_pose' failed with error code 206 (GOAL_OCCUPIED): ...". Status changes are
 published as nav2_msgs/BehaviorTreeLog on ``behavior_tree_log``; a PoseStamped on ``goal_pose``
-(RViz's "Nav2 Goal") is sent to our own navigate_to_pose (nav_stack/ros/goal_pose_forwarder.py).
-While localization is not trustworthy (nav_stack/ros/localization_guard.py) a new goal is refused,
+(RViz's "Nav2 Goal") is sent to our own navigate_to_pose (nav_stack/ros/navigator/goal_pose_forwarder.py).
+While localization is not trustworthy (nav_stack/ros/navigator/localization_guard.py) a new goal is refused,
 and a running one ends after ``localization_grace_period``, with UNKNOWN and "localization is not
 trustworthy: <cause>".
 """
@@ -55,15 +55,19 @@ from nav_stack.ros.bt_nodes.navigators import (
     RobotState,
     has_robot_pose,
 )
-from nav_stack.ros.clock_watch import ClockWatch
-from nav_stack.ros.frames import Frames
-from nav_stack.ros.goal_pose_forwarder import GoalPoseForwarder
-from nav_stack.ros.goal_runs import GoalRun, Outcome
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.localization_guard import LocalizationGuard, LocalizationGuardParams, untrusted_message
-from nav_stack.ros.node_runner import run
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.clock_watch import ClockWatch
+from nav_stack.ros.common.frames import Frames
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.node_runner import run
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import DEFAULT
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
+from nav_stack.ros.navigator.goal_pose_forwarder import GoalPoseForwarder
+from nav_stack.ros.navigator.localization_guard import (
+    LocalizationGuard,
+    LocalizationGuardParams,
+    untrusted_message,
+)
 from ros_tools.runtime.actions import ActionServer
 from ros_tools.runtime.timers import create_periodic_timer
 
@@ -393,7 +397,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.bt_navigator [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.navigator.bt_navigator [--autostart] [--ros-args ...]``."""
     return run(build_nodes, argv, role="bt_navigator")
 
 

@@ -16,7 +16,7 @@ from geometry_msgs.msg import PoseStamped
 from nav2_msgs.action import NavigateToPose
 from rclpy.action import ActionClient
 
-from nav_stack.ros.qos import DEFAULT
+from nav_stack.ros.common.qos import DEFAULT
 from ros_tools.runtime.actions import acknowledged
 from ros_tools.runtime.coroutines import spawn
 from ros_tools.runtime.waiting import sleep, steady_clock

@@ -9,7 +9,7 @@ errors"). The guard listens to what localization says about itself and bt_naviga
   Nav2-style localizer publishes this, so the check works with nav2_amcl too. The default, 1.0 m,
   lets a fresh initial pose through (RViz and amcl_init_pose_publisher use σ 0.5 m) and stops a
   global localization's cloud spread over the map.
-* ``/diagnostics``: the status ``amcl: localization`` (nav_stack/ros/amcl_health.py); WARN
+* ``/diagnostics``: the status ``amcl: localization`` (nav_stack/ros/localization/amcl_health.py); WARN
   carries amcl's cause, e.g. "few beams on walls: 3 of 60 beams returned within 3.5 m (< 20 %)".
 
 A new goal is refused while either says no; a running goal ends once it has been untrusted for
@@ -29,8 +29,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped
 
 from nav_stack.core.localization.health import position_std
-from nav_stack.ros.amcl_messages import DIAGNOSTICS_TOPIC, LOCALIZATION_STATUS, covariance_3x3
-from nav_stack.ros.qos import DEFAULT, LATCHED
+from nav_stack.ros.common.qos import DEFAULT, LATCHED
+from nav_stack.ros.localization.amcl_messages import DIAGNOSTICS_TOPIC, LOCALIZATION_STATUS, covariance_3x3
 
 NOT_TRUSTWORTHY = "localization is not trustworthy"
 

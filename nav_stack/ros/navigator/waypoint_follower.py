@@ -32,9 +32,9 @@ from rclpy.action import ActionClient, CancelResponse, GoalResponse
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.node_runner import run
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.actions import ActionServer, acknowledged
 from ros_tools.runtime.waiting import sleep
 
@@ -204,7 +204,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.waypoint_follower [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.navigator.waypoint_follower [--autostart] [--ros-args ...]``."""
     return run(build_nodes, argv, role="waypoint_follower")
 
 

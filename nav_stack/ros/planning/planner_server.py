@@ -51,14 +51,14 @@ from nav_stack.core.planning import (
     ThroughPosesErrorCode,
 )
 from nav_stack.core.planning.common import GlobalPlanner
-from nav_stack.ros.conversions import duration_msg, path_from_array
-from nav_stack.ros.costmap_ros import CostmapROS, run_transition
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.param_layout import param
-from nav_stack.ros.params import declare_dataclass, on_dataclass_update
-from nav_stack.ros.selectors import Selector
+from nav_stack.ros.bringup.param_layout import param
+from nav_stack.ros.common.conversions import duration_msg, path_from_array
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass, on_dataclass_update
+from nav_stack.ros.common.selectors import Selector
+from nav_stack.ros.costmap.costmap_ros import CostmapROS, run_transition
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.coroutines import until
 from ros_tools.runtime.lockstep import hold_process
@@ -286,7 +286,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.planner_server [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.planning.planner_server [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role="planner_server")
 
 

@@ -48,14 +48,19 @@ from nav_stack.core.smoothing import (
     SmoothResult,
     check_path,
 )
-from nav_stack.ros.conversions import duration_msg, duration_to_seconds, path_to_array, yaw_to_quaternion
-from nav_stack.ros.docking_world import cost_grid
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.node_runner import run as run_nodes
-from nav_stack.ros.param_layout import param
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.bringup.param_layout import param
+from nav_stack.ros.common.conversions import (
+    duration_msg,
+    duration_to_seconds,
+    path_to_array,
+    yaw_to_quaternion,
+)
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.docking.docking_world import cost_grid
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.actions import RESULT_TIMEOUT_S, ActionServer
 from ros_tools.runtime.coroutines import until
 from ros_tools.runtime.lockstep import hold_process
@@ -245,7 +250,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m nav_stack.ros.smoother_server [--autostart] [--ros-args ...]``."""
+    """``python -m nav_stack.ros.planning.smoother_server [--autostart] [--ros-args ...]``."""
     return run_nodes(build_nodes, argv, role="smoother_server")
 
 

@@ -46,10 +46,10 @@ from nav_stack.core.exploration import ExplorationStatus, Explorer, ExplorerPara
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import OccupancyMap, save_map
-from nav_stack.ros.conversions import duration_msg, grid_from_occupancy, pose_stamped
-from nav_stack.ros.frames import FrameError, Frames
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import duration_msg, grid_from_occupancy, pose_stamped
+from nav_stack.ros.common.frames import FrameError, Frames
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import LATCHED
 from ros_tools.runtime.timers import create_periodic_timer
 from ros_tools.runtime.waiting import steady_clock
 from ros_tools.tf.ros import stamp_to_seconds
@@ -60,7 +60,7 @@ SPIN_WAIT = 20.0  # s (node clock) to wait for the spin server before exploring 
 SPIN_ALLOWANCE = 60.0  # s the first turn may take; after SPIN_ALLOWANCE + SPIN_WAIT exploring starts anyway
 MAP_SAVER_SERVICE = "map_saver/save_map"
 TICK_PERIOD = 0.5  # s (node clock) between loop steps
-SAVE_FREE_THRESH = 0.196  # keeps pixel 205 unknown on reload (see nav_stack/ros/map_saver.py)
+SAVE_FREE_THRESH = 0.196  # keeps pixel 205 unknown on reload (see nav_stack/ros/slam/map_saver.py)
 SAVER_DISCOVERY = 2.0  # wall s to find the map_saver service before saving with map_io instead
 SAVER_ANSWER = 15.0  # wall s the map_saver may take to answer
 SAVER_POLL = 0.05  # wall s between checks while saving (discovery has no event to wait on)

@@ -36,9 +36,9 @@ from rclpy.task import Future
 
 from nav_stack.core import map_io
 from nav_stack.core.map_io import MapMode, OccupancyMap
-from nav_stack.ros.conversions import grid_from_occupancy
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.conversions import grid_from_occupancy
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.executor import add_executor_argument
 from ros_tools.runtime.runner import run_nodes, split_runner_flags
 from ros_tools.runtime.waiting import steady_clock

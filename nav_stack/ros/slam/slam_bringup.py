@@ -3,9 +3,9 @@
 Nav2's bringup with ``slam:=True`` drops map_server, amcl and lifecycle_manager_localization and
 starts slam_toolbox plus a map_saver server under ``lifecycle_manager_slam``. The same here:
 
-  slam                     nav_stack.ros.slam_node: publishes /map (growing, transient local) and
+  slam                     nav_stack.ros.slam.slam_node: publishes /map (growing, transient local) and
                            map → odom; parameters from the ``slam`` section of the params file.
-  map_saver                nav_stack.ros.map_saver: ``map_saver/save_map`` (what ``map_saver_cli`` and
+  map_saver                nav_stack.ros.slam.map_saver: ``map_saver/save_map`` (what ``map_saver_cli`` and
                            ``nav-explore -f`` call) saves the live /map.
   lifecycle_manager_slam   configures and activates both; ready when it logs "Managed nodes are active".
 
@@ -49,17 +49,18 @@ def slam_processes(params_file: str | Path | Sequence[str | Path], *, use_sim_ti
     common = [*[arg for f in files for arg in ("--params-file", str(f))],
               "-p", f"use_sim_time:={str(use_sim_time).lower()}",
               *extra_ros_args]
-    # ``python -m nav_stack.ros.map_saver`` is map_saver_cli; the server is that module's main().
-    saver = "import sys; from nav_stack.ros.map_saver import main; sys.exit(main())"
+    # ``python -m nav_stack.ros.slam.map_saver`` is map_saver_cli; the server is that module's main().
+    saver = "import sys; from nav_stack.ros.slam.map_saver import main; sys.exit(main())"
     # One BLAS thread: the pose-graph solve's matrices are small, and on a loaded 2-core machine
     # OpenBLAS's spinning worker threads made one loop closure's optimisation 6x slower (2.4 s instead
     # of 0.4 s for 1600 nodes and 60 loop edges), long enough to miss the bond heartbeat.
-    nodes = [ProcessSpec("slam", [python, "-m", "nav_stack.ros.slam_node", "--ros-args", *common],
+    nodes = [ProcessSpec("slam", [python, "-m", "nav_stack.ros.slam.slam_node", "--ros-args", *common],
                          env={"OPENBLAS_NUM_THREADS": "1"}),
              ProcessSpec("map_saver", [python, "-c", saver, "--ros-args", *common])]
     manager = ProcessSpec(
         SLAM_MANAGER,
-        [python, "-m", "nav_stack.ros.lifecycle_manager", "--ros-args", "-r", f"__node:={SLAM_MANAGER}",
+        [python, "-m", "nav_stack.ros.lifecycle.lifecycle_manager", "--ros-args",
+         "-r", f"__node:={SLAM_MANAGER}",
          *common, "-p", f"node_names:=[{','.join(SLAM_NODES)}]", "-p", "autostart:=true"],
         ready=MANAGER_READY,
         ready_timeout=ready_timeout,

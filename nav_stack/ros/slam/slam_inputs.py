@@ -1,5 +1,5 @@
 """What the slam node takes in: its ROS-side parameters, a TF listener that wakes a waiting scan,
-and the one scan that waits for its odometry (see nav_stack/ros/slam_node.py for how they are used).
+and the one scan that waits for its odometry (see nav_stack/ros/slam/slam_node.py for how they are used).
 """
 
 from __future__ import annotations

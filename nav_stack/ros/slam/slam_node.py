@@ -26,7 +26,7 @@ processed scans the node logs the median and max wall time of their callbacks.
        ``slam/pose`` (PoseWithCovarianceStamped, map frame, scan stamp) for every scan.
   srv  ``slam/save_map``, ``slam/pause_new_measurements`` (SetBool), and slam_toolbox's
        ``slam_toolbox/serialize_map``, ``slam_toolbox/deserialize_map`` and
-       ``slam_toolbox/pause_new_measurements`` (Pause, a toggle): see nav_stack/ros/slam_services.py.
+       ``slam_toolbox/pause_new_measurements`` (Pause, a toggle): see nav_stack/ros/slam/slam_services.py.
 
 Modes (slam_toolbox's ``mode``): ``mapping`` builds the graph, from scratch or, with
 ``map_file_name`` (a graph written by serialize_map, path without extension), continuing the saved
@@ -59,12 +59,12 @@ from sensor_msgs.msg import LaserScan as LaserScanMsg
 from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.slam import GridSlam, SlamParams, read_graph, resume
-from nav_stack.ros.conversions import occupancy_msg, pose_from_2d
-from nav_stack.ros.lifecycle import NavLifecycleNode
-from nav_stack.ros.params import declare_dataclass
-from nav_stack.ros.qos import LATCHED, SENSOR
-from nav_stack.ros.slam_inputs import NotifyingListener, PendingScan, SlamNodeParams
-from nav_stack.ros.slam_services import SlamServices
+from nav_stack.ros.common.conversions import occupancy_msg, pose_from_2d
+from nav_stack.ros.common.params import declare_dataclass
+from nav_stack.ros.common.qos import LATCHED, SENSOR
+from nav_stack.ros.lifecycle.node import NavLifecycleNode
+from nav_stack.ros.slam.slam_inputs import NotifyingListener, PendingScan, SlamNodeParams
+from nav_stack.ros.slam.slam_services import SlamServices
 from ros_tools.tf.buffer import ExtrapolationError, TransformError
 from ros_tools.tf.ros import TransformBroadcaster, stamp_to_seconds, transform_to_msg
 from ros_tools.tf.transform import Transform

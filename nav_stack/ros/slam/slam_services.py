@@ -40,7 +40,7 @@ from nav_stack.core.map_io import OccupancyMap, save_map
 from nav_stack.core.slam import GraphFileError, read_graph, resume, write_graph
 
 if TYPE_CHECKING:
-    from nav_stack.ros.slam_node import SlamNode
+    from nav_stack.ros.slam.slam_node import SlamNode
 
 SAVE_MAP_SERVICE = "~/save_map"
 PAUSE_SERVICE = "~/pause_new_measurements"

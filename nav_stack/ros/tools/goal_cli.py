@@ -263,7 +263,7 @@ def waypoints(runner: GoalRunner, args: argparse.Namespace) -> int:
 def initial_pose(runner: GoalRunner, args: argparse.Namespace) -> int:
     from rclpy.parameter import Parameter
 
-    from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+    from nav_stack.ros.localization.initial_pose_publisher import InitialPosePublisher
 
     publisher = InitialPosePublisher(parameter_overrides=[
         Parameter("x", value=args.x), Parameter("y", value=args.y), Parameter("yaw", value=args.yaw),

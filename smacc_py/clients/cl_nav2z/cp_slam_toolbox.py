@@ -2,7 +2,7 @@
 
 SMACC2's component only remembers whether it last asked slam_toolbox to pause or to resume:
 slam_toolbox's ``/slam_toolbox/pause_new_measurements`` (slam_toolbox/srv/Pause, an empty request)
-toggles, and says nothing about the state it left. nav_stack's SLAM node (nav_stack/ros/slam_node.py)
+toggles, and says nothing about the state it left. nav_stack's SLAM node (nav_stack/ros/slam/slam_node.py)
 serves ``/slam/pause_new_measurements`` as std_srvs/SetBool instead (``data`` true pauses, false
 resumes; the map and map → odom stay published while paused). A SetBool request names the state it
 wants, so asking twice is harmless and the component's ``state`` is set from the node's answer, never

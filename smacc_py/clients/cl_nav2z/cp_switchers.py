@@ -1,7 +1,7 @@
 """Planner, controller and goal-checker selection for Nav2's BT selector nodes.
 
 Nav2's PlannerSelector/ControllerSelector/GoalCheckerSelector BT nodes (and nav_stack's planner and
-controller servers and bt_navigator, ``nav_stack/ros/selectors.py``) subscribe ``planner_selector``,
+controller servers and bt_navigator, ``nav_stack/ros/common/selectors.py``) subscribe ``planner_selector``,
 ``controller_selector`` and ``goal_checker_selector`` (std_msgs/String) with reliable + transient local
 QoS, depth 1, so a selection published before the BT starts still applies.
 

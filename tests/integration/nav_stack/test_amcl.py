@@ -23,10 +23,10 @@ from std_srvs.srv import Empty
 
 from nav_stack.core.localization.health import LocalizationState, position_std
 from nav_stack.core.localization.likelihood_field_prob import LikelihoodFieldProbModel
-from nav_stack.ros.amcl_messages import LOCALIZATION_STATUS, covariance_3x3
-from nav_stack.ros.amcl_node import NO_POSE_WARNING, AmclNode
-from nav_stack.ros.conversions import pose_from_2d
-from nav_stack.ros.qos import DEFAULT, LATCHED
+from nav_stack.ros.common.conversions import pose_from_2d
+from nav_stack.ros.common.qos import DEFAULT, LATCHED
+from nav_stack.ros.localization.amcl_messages import LOCALIZATION_STATUS, covariance_3x3
+from nav_stack.ros.localization.amcl_node import NO_POSE_WARNING, AmclNode
 from navsuite_testing.localization.nodes import call
 from navsuite_testing.ros import spin_until
 from ros_tools.tf.ros import TransformListener

@@ -18,8 +18,8 @@ from nav2_msgs.action import BackUp, DriveOnHeading, Spin, Wait
 from rclpy.node import Node
 
 from nav_stack.core.costmap import CostmapParams
-from nav_stack.ros.behavior_server import build_nodes
-from nav_stack.ros.costmap_ros import CostmapROS
+from nav_stack.ros.behaviors.behavior_server import build_nodes
+from nav_stack.ros.costmap.costmap_ros import CostmapROS
 from navsuite_testing.nav.world import (
     Harness,
     WorldNode,

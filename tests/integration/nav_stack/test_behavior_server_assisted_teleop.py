@@ -22,10 +22,10 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import Empty
 
 from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
-from nav_stack.ros.behavior_server import build_nodes
-from nav_stack.ros.conversions import costmap_msg
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.behaviors.behavior_server import build_nodes
+from nav_stack.ros.common.conversions import costmap_msg
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.common.qos import LATCHED
 from navsuite_testing.nav.world import Harness, get_result, send_goal
 from navsuite_testing.ros import wait_until
 from ros_tools.cmd_vel import CMD_VEL_QOS

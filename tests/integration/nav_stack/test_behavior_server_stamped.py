@@ -17,8 +17,9 @@ from rclpy.lifecycle import TransitionCallbackReturn
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from nav_stack.ros import behavior_server, controller_server
-from nav_stack.ros.frames import FrameError
+from nav_stack.ros.behaviors import behavior_server
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.control import controller_server
 from navsuite_testing.nav.world import (
     Harness,
     WorldNode,

@@ -17,9 +17,9 @@ from nav2_msgs.msg import BehaviorTreeLog
 from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
-from nav_stack.ros.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
 from nav_stack.ros.bt_nodes.navigators import TF_ERROR, UNKNOWN, has_robot_pose
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.navigator.bt_navigator import FAILED_TO_LOAD_BEHAVIOR_TREE, BtNavigator
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_rig import NAVIGATOR_OVERRIDES, Rig, start_rig, stop_rig
 

@@ -18,11 +18,11 @@ from nav2_msgs.action import NavigateToPose
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 
-from nav_stack.ros.amcl_messages import LOCALIZATION_STATUS
-from nav_stack.ros.bt_navigator import UNKNOWN, BtNavigator
 from nav_stack.ros.bt_nodes.navigators import has_robot_pose
-from nav_stack.ros.conversions import pose_from_2d
-from nav_stack.ros.qos import DEFAULT, LATCHED
+from nav_stack.ros.common.conversions import pose_from_2d
+from nav_stack.ros.common.qos import DEFAULT, LATCHED
+from nav_stack.ros.localization.amcl_messages import LOCALIZATION_STATUS
+from nav_stack.ros.navigator.bt_navigator import UNKNOWN, BtNavigator
 from tests.helpers.nav_ros_bt_fakes import nav_goal
 from tests.helpers.nav_ros_bt_rig import NAVIGATOR_OVERRIDES, Rig, start_rig, stop_rig
 

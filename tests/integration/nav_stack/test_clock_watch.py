@@ -14,7 +14,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
-from nav_stack.ros.clock_watch import ClockWatch
+from nav_stack.ros.common.clock_watch import ClockWatch
 from navsuite_testing.ros import spin_until
 
 pytestmark = pytest.mark.ros

@@ -38,9 +38,9 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import LaserScan, PointCloud2, PointField
 from visualization_msgs.msg import MarkerArray
 
-from nav_stack.ros.collision_monitor import CollisionMonitorNode, build_nodes
-from nav_stack.ros.collision_monitor_sources import SourceFrames
-from nav_stack.ros.qos import DEFAULT, SENSOR
+from nav_stack.ros.collision.collision_monitor import CollisionMonitorNode, build_nodes
+from nav_stack.ros.collision.collision_monitor_sources import SourceFrames
+from nav_stack.ros.common.qos import DEFAULT, SENSOR
 from navsuite_testing.nav.world import Harness
 from navsuite_testing.ros import wait_until
 from ros_tools.cmd_vel import CMD_VEL_QOS

@@ -28,7 +28,8 @@ from rclpy.node import Node
 from std_msgs.msg import String
 
 from nav_stack.core.control.follow_path import Takeover
-from nav_stack.ros import controller_server, planner_server
+from nav_stack.ros.control import controller_server
+from nav_stack.ros.planning import planner_server
 from navsuite_testing.nav.world import (
     LATCHED,
     Harness,

@@ -31,8 +31,9 @@ from rclpy.serialization import deserialize_message, serialize_message
 from visualization_msgs.msg import MarkerArray
 
 from nav_stack.core.control.mppi import MPPIController, trajectory_markers
-from nav_stack.ros import controller_server, planner_server
-from nav_stack.ros.mppi_visualization import SphereArrayEncoder, _sphere
+from nav_stack.ros.control import controller_server
+from nav_stack.ros.control.mppi_visualization import SphereArrayEncoder, _sphere
+from nav_stack.ros.planning import planner_server
 from navsuite_testing.nav.world import (
     Harness,
     WorldNode,

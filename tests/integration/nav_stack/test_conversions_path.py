@@ -20,7 +20,7 @@ from nav_msgs.msg import Path
 from rclpy.serialization import deserialize_message, serialize_message
 
 from nav_stack.core.geometry import quaternion_from_yaw, yaw_from_quaternion
-from nav_stack.ros.conversions import path_from_array, path_to_array
+from nav_stack.ros.common.conversions import path_from_array, path_to_array
 
 STAMP = Time(sec=123, nanosec=456_000)
 

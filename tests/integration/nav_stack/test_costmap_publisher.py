@@ -26,9 +26,9 @@ from sensor_msgs.msg import LaserScan
 from nav_stack.core.costmap.layer import Window
 from nav_stack.core.costmap.publish import apply_update
 from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
-from nav_stack.ros import costmap_publisher
-from nav_stack.ros.conversions import spec_from_info
-from nav_stack.ros.costmap_ros import CostmapROS
+from nav_stack.ros.common.conversions import spec_from_info
+from nav_stack.ros.costmap import costmap_publisher
+from nav_stack.ros.costmap.costmap_ros import CostmapROS
 from navsuite_testing.nav.world import LATCHED, Harness, map_without, server_args
 from navsuite_testing.ros import wait_until
 from ros_tools.runtime.requests import call_until_answered

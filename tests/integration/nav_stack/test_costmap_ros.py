@@ -20,8 +20,8 @@ from std_srvs.srv import SetBool
 
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
-from nav_stack.ros.conversions import spec_from_info
-from nav_stack.ros.costmap_ros import CostmapROS
+from nav_stack.ros.common.conversions import spec_from_info
+from nav_stack.ros.costmap.costmap_ros import CostmapROS
 from navsuite_testing.nav.world import (
     LATCHED,
     Harness,

@@ -22,7 +22,7 @@ from rclpy.parameter import Parameter
 
 from nav_stack.core.bt import BehaviorTreeFactory, Blackboard, NodeStatus
 from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
-from nav_stack.ros.docking_server import build_nodes
+from nav_stack.ros.docking.docking_server import build_nodes
 from navsuite_testing.nav.world import get_result, send_goal
 from navsuite_testing.ros import wait_until
 from ros_tools.runtime.actions import ActionClient

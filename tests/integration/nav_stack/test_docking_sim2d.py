@@ -40,8 +40,8 @@ from visualization_msgs.msg import Marker
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.core.docking.controller import relative
 from nav_stack.core.geometry import Pose2D
-from nav_stack.ros.costmap_ros import CostmapROS
-from nav_stack.ros.docking_server import DockingServer, build_nodes
+from nav_stack.ros.costmap.costmap_ros import CostmapROS
+from nav_stack.ros.docking.docking_server import DockingServer, build_nodes
 from navsuite_testing.nav.world import Harness, get_result, send_goal, server_args, sim_time_override
 from navsuite_testing.ros import REPO, wait_until
 from ros_tools.runtime.actions import ActionClient

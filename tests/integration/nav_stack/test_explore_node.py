@@ -23,10 +23,10 @@ from std_msgs.msg import String
 
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import occupancy_msg
-from nav_stack.ros.explore import ExploreNode
-from nav_stack.ros.map_saver import MapSaver
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import occupancy_msg
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.slam.explore import ExploreNode
+from nav_stack.ros.slam.map_saver import MapSaver
 from navsuite_testing.ros import spin_until
 from ros_tools.runtime.executor import make_executor
 

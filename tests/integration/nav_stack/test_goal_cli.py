@@ -21,7 +21,7 @@ pytestmark = pytest.mark.ros
 
 
 def nav_goal(*args: str) -> subprocess.CompletedProcess[str]:
-    proc = start_python("nav_stack.ros.goal_cli", args)
+    proc = start_python("nav_stack.ros.tools.goal_cli", args)
     try:
         out, _ = proc.communicate(timeout=60)
     except subprocess.TimeoutExpired:

@@ -15,9 +15,9 @@ from rclpy.lifecycle import TransitionCallbackReturn
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.amcl_node import AmclNode
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.initial_pose_publisher import InitialPosePublisher
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.localization.amcl_node import AmclNode
+from nav_stack.ros.localization.initial_pose_publisher import InitialPosePublisher
 from navsuite_testing.ros import spin_until, start_python, stop_process
 from ros_tools.runtime.executor import make_executor
 from tests.helpers.nav_ros_loc_fakes import FakeRobot
@@ -117,7 +117,8 @@ def test_gives_up_after_its_timeout_without_amcl(ros_context: Any, executor_kind
 
 def test_main_exits_1_after_its_timeout() -> None:
     """The process on the default EventsExecutor ends by itself (no AMCL: exit 1, no traceback)."""
-    proc = start_python("nav_stack.ros.initial_pose_publisher", ["--ros-args", "-p", "timeout:=0.5"])
+    proc = start_python("nav_stack.ros.localization.initial_pose_publisher",
+                        ["--ros-args", "-p", "timeout:=0.5"])
     output = stop_process(proc, timeout=30.0) if proc.wait(timeout=30.0) is not None else ""
     assert proc.returncode == 1, output
     assert "did not confirm the initial pose within 0.5 s" in output and "Traceback" not in output, output

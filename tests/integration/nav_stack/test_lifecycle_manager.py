@@ -23,8 +23,8 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
 
-from nav_stack.ros.lifecycle_manager import LifecycleManager
-from nav_stack.ros.map_server import MapServer
+from nav_stack.ros.lifecycle.lifecycle_manager import LifecycleManager
+from nav_stack.ros.localization.map_server import MapServer
 from navsuite_testing.localization.nodes import MAP_YAML, call
 from navsuite_testing.ros import spin_until, start_python, stop_process
 from tests.helpers.lossy_service import LoseResponses
@@ -37,7 +37,8 @@ AMCL = "amcl_under_manager"
 class Graph:
     def __init__(self, context: Any, bond_timeout: float) -> None:
         # A name no other test uses: a node of an earlier test's context can linger in DDS discovery.
-        self.amcl_proc = start_python("nav_stack.ros.amcl_node", ["--ros-args", "-r", f"__node:={AMCL}"])
+        self.amcl_proc = start_python("nav_stack.ros.localization.amcl_node",
+                                      ["--ros-args", "-r", f"__node:={AMCL}"])
         self.map_server = MapServer(context=context,
                                     parameter_overrides=[Parameter("yaml_filename", value=str(MAP_YAML))])
         self.manager = LifecycleManager("lifecycle_manager_test", context=context, parameter_overrides=[

@@ -27,7 +27,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.lifecycle_manager import LifecycleManager
+from nav_stack.ros.lifecycle.lifecycle_manager import LifecycleManager
 from navsuite_testing.localization.nodes import call
 from navsuite_testing.ros import spin_until, start_python, stop_process
 from ros_tools.launch import Launcher, ProcessSpec
@@ -70,7 +70,7 @@ class Rig:
 
 @pytest.fixture
 def frozen(ros_context: Any) -> Iterator[tuple[Rig, Any]]:
-    proc = start_python("nav_stack.ros.amcl_node", ["--ros-args", "-r", f"__node:={NODE}"])
+    proc = start_python("nav_stack.ros.localization.amcl_node", ["--ros-args", "-r", f"__node:={NODE}"])
     rig = Rig(ros_context, NODE)
     try:
         yield rig, proc
@@ -124,8 +124,8 @@ def test_a_killed_node_process_is_respawned_and_the_manager_reconnects_through_t
         ros_context: Any, capfd: Any) -> None:
     node = "amcl_respawned_under_manager"
     launcher = Launcher(output=lambda line: print(line, flush=True), color=False, shutdown_grace=5.0)
-    spec = ProcessSpec(node, [sys.executable, "-m", "nav_stack.ros.amcl_node", "--ros-args", "-r",
-                              f"__node:={node}"], respawn=True, respawn_delay=0.5)
+    spec = ProcessSpec(node, [sys.executable, "-m", "nav_stack.ros.localization.amcl_node", "--ros-args",
+                              "-r", f"__node:={node}"], respawn=True, respawn_delay=0.5)
     rig = Rig(ros_context, node)
     waiter = threading.Thread(target=launcher.wait, daemon=True)
     try:

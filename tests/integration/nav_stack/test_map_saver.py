@@ -23,9 +23,9 @@ from rclpy.node import Node
 
 from nav_stack.core.grid import GridSpec
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import occupancy_msg
-from nav_stack.ros.map_saver import MapSaver
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import occupancy_msg
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.slam.map_saver import MapSaver
 from navsuite_testing.localization.nodes import MAP_YAML, call
 from navsuite_testing.ros import spin_until, start_python, stop_process, wait_until
 from ros_tools.runtime.executor import make_executor
@@ -127,7 +127,8 @@ def test_cli_saves_then_refuses_to_overwrite(ros_context: Any, tmp_path: Path) -
     pub.publish(occupancy_msg(original.data, original.spec, "map", node.get_clock().now().to_msg()))
     base = tmp_path / "my_map"
     try:
-        proc = start_python("nav_stack.ros.map_saver", ["-f", str(base), "--occ", "0.65", "--free", "0.25"])
+        proc = start_python("nav_stack.ros.slam.map_saver",
+                            ["-f", str(base), "--occ", "0.65", "--free", "0.25"])
         executor = SingleThreadedExecutor(context=ros_context)
         executor.add_node(node)
         wait_until(lambda: (executor.spin_once(timeout_sec=0.05), proc.poll())[1] is not None, 60.0,
@@ -135,13 +136,13 @@ def test_cli_saves_then_refuses_to_overwrite(ros_context: Any, tmp_path: Path) -
         assert proc.returncode == 0, stop_process(proc)
         np.testing.assert_array_equal(load_map(base.with_suffix(".yaml")).data, original.data)
 
-        again = start_python("nav_stack.ros.map_saver", ["-f", str(base)])
+        again = start_python("nav_stack.ros.slam.map_saver", ["-f", str(base)])
         output = stop_process(again, timeout=30.0) if again.wait(timeout=30.0) is not None else ""
         assert again.returncode == 2
         assert output.strip().splitlines() == [
             f"map_saver_cli: error: {base}.pgm exists; refusing to overwrite it (use --overwrite)"]
 
-        bad = start_python("nav_stack.ros.map_saver", ["-f", str(tmp_path / "other"), "--fmt", "png"])
+        bad = start_python("nav_stack.ros.slam.map_saver", ["-f", str(tmp_path / "other"), "--fmt", "png"])
         bad.wait(timeout=30.0)
         assert bad.returncode == 2 and "image_format 'png' is not supported" in stop_process(bad)
     finally:

@@ -21,9 +21,9 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter as RclParameter
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import grid_from_occupancy
-from nav_stack.ros.map_server import MapServer
-from nav_stack.ros.qos import LATCHED
+from nav_stack.ros.common.conversions import grid_from_occupancy
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.localization.map_server import MapServer
 from navsuite_testing.localization.nodes import MAP_YAML, call, write_map_yaml
 from navsuite_testing.ros import spin_until
 

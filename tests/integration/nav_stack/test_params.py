@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import pytest
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.params import declare_dataclass
 
 pytestmark = pytest.mark.ros
 
@@ -56,7 +56,7 @@ def test_prefix_and_invalid_value_names_node_parameter_and_value(ros_context):
 
 
 def test_a_malformed_footprint_string_names_the_node_and_the_parameter():
-    from nav_stack.ros.costmap_params import parse_footprint
+    from nav_stack.ros.costmap.costmap_params import parse_footprint
 
     triangle = parse_footprint("[[0.1, 0.2], [0.1, -0.2], [-0.1, 0.0]]", "n")
     assert triangle == ((0.1, 0.2), (0.1, -0.2), (-0.1, 0.0))

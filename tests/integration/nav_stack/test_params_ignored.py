@@ -8,7 +8,7 @@ from typing import ClassVar
 import pytest
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.params import declare_dataclass
+from nav_stack.ros.common.params import declare_dataclass
 
 pytestmark = pytest.mark.ros
 

@@ -23,7 +23,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.planner_server import build_nodes
+from nav_stack.ros.planning.planner_server import build_nodes
 from navsuite_testing.nav.world import (
     LATCHED,
     MAP_YAML,

@@ -28,8 +28,8 @@ from nav_stack.core.costmap.observation import LaserScan
 from nav_stack.core.geometry import Pose2D
 from nav_stack.core.map_io import load_map
 from nav_stack.core.slam import GraphFileError, GridSlam, read_graph
-from nav_stack.ros.conversions import grid_from_occupancy
-from nav_stack.ros.slam_node import SlamNode
+from nav_stack.ros.common.conversions import grid_from_occupancy
+from nav_stack.ros.slam.slam_node import SlamNode
 from navsuite_testing.nav.world import Harness
 from navsuite_testing.ros import wait_until
 from navsuite_testing.slam.fakes import LASER_X, START, TRUTH_SPEC, FakeRobot, tour

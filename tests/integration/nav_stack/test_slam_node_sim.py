@@ -21,7 +21,7 @@ from nav2_msgs.srv import SaveMap
 from std_srvs.srv import SetBool
 
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.conversions import grid_from_occupancy
+from nav_stack.ros.common.conversions import grid_from_occupancy
 from navsuite_testing.localization.nodes import call
 from navsuite_testing.ros import spin_until
 from tests.helpers.nav_ros_slam_drive import SLAM_MAX_ERROR, SLAM_MAX_MEDIAN_ERROR, SlamDrive

@@ -9,7 +9,7 @@ from geometry_msgs.msg import Twist, TwistStamped
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from nav_stack.ros.teleop import LIMITS, TeleopState
+from nav_stack.ros.tools.teleop import LIMITS, TeleopState
 from navsuite_testing.ros import spin_until, start_python, stop_process
 
 
@@ -38,7 +38,7 @@ def _replay(context: Any, keys: str, stamped: bool) -> list[tuple[float, float]]
 
     node.create_subscription(TwistStamped if stamped else Twist, "/cmd_vel", on_cmd, 10)
     ros_args = ["--ros-args", "-p", "enable_stamped_cmd_vel:=true"] if stamped else []
-    proc = start_python("nav_stack.ros.teleop", ["--keys", keys, "--period", "0.05", *ros_args])
+    proc = start_python("nav_stack.ros.tools.teleop", ["--keys", keys, "--period", "0.05", *ros_args])
     try:
         spin_until(executor, lambda: proc.poll() is not None, 30.0, "nav-teleop to finish")
         spin_until(executor, lambda: len(received) >= len(keys) + 1, 5.0, "every command")

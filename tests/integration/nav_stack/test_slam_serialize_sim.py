@@ -21,7 +21,7 @@ from geometry_msgs.msg import Pose2D as Pose2DMsg
 from slam_toolbox.srv import DeserializePoseGraph, Pause, SerializePoseGraph
 
 from nav_stack.core.slam import GridSlam, read_graph
-from nav_stack.ros.conversions import grid_from_occupancy
+from nav_stack.ros.common.conversions import grid_from_occupancy
 from navsuite_testing.localization.nodes import call
 from navsuite_testing.ros import spin_until, stop_process
 from tests.helpers.nav_ros_slam_drive import (

@@ -24,10 +24,10 @@ from rclpy.parameter import Parameter
 from nav_stack.core.bt import BehaviorTreeFactory, Blackboard, NodeStatus
 from nav_stack.core.grid import LETHAL_OBSTACLE, GridSpec
 from nav_stack.ros.bt_nodes import BtRosContext, register_ros_nodes
-from nav_stack.ros.conversions import costmap_msg, path_from_array
-from nav_stack.ros.frames import FrameError
-from nav_stack.ros.qos import LATCHED
-from nav_stack.ros.smoother_server import build_nodes, path_poses
+from nav_stack.ros.common.conversions import costmap_msg, path_from_array
+from nav_stack.ros.common.frames import FrameError
+from nav_stack.ros.common.qos import LATCHED
+from nav_stack.ros.planning.smoother_server import build_nodes, path_poses
 from navsuite_testing.nav.world import Harness, get_result, send_goal
 from navsuite_testing.ros import wait_until
 from ros_tools.runtime.actions import ActionClient

@@ -18,7 +18,7 @@ from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
 from nav_stack.core.velocity_smoother import VelocitySmootherParams, check_command_series
-from nav_stack.ros.velocity_smoother import VelocitySmoother, build_nodes
+from nav_stack.ros.control.velocity_smoother import VelocitySmoother, build_nodes
 from navsuite_testing.nav.world import Harness
 from navsuite_testing.ros import wait_until
 from ros_tools.cmd_vel import CMD_VEL_QOS

@@ -13,7 +13,7 @@ from action_msgs.msg import GoalStatus
 from nav2_msgs.action import FollowWaypoints
 from rclpy.parameter import Parameter
 
-from nav_stack.ros.waypoint_follower import WaypointFollower
+from nav_stack.ros.navigator.waypoint_follower import WaypointFollower
 from tests.helpers.nav_ros_bt_fakes import FakeNavigateToPose, nav_goal
 from tests.helpers.nav_ros_bt_rig import Rig, start_rig, stop_rig
 

@@ -10,7 +10,7 @@ from geometry_msgs.msg import Twist
 from rclpy.executors import SingleThreadedExecutor
 from std_msgs.msg import UInt16
 
-from nav_stack.ros.selectors import Selector
+from nav_stack.ros.common.selectors import Selector
 from navsuite_testing.ros import spin_until, wait_until
 from smacc_py.clients.cl_nav2z import CpGoalCheckerSwitcher, CpOdomTracker, CpPlannerSwitcher
 from tests.integration.smacc_py import machines as m

@@ -16,8 +16,8 @@ from rclpy.lifecycle import TransitionCallbackReturn
 from rclpy.node import Node
 from visualization_msgs.msg import MarkerArray
 
-from nav_stack.ros.costmap_ros import CostmapROS
-from nav_stack.ros.slam_node import SlamNode
+from nav_stack.ros.costmap.costmap_ros import CostmapROS
+from nav_stack.ros.slam.slam_node import SlamNode
 from navsuite_testing.nav.world import Harness
 from navsuite_testing.ros import spin_until, wait_until
 from smacc_py.clients.cl_nav2z import (

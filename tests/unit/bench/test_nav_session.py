@@ -9,7 +9,7 @@ import pytest
 
 from bench.nav_session import free_poses, ideal_speed
 from nav_stack.core.map_io import load_map
-from nav_stack.ros.robot_params import params_for_robot
+from nav_stack.ros.bringup.robot_params import params_for_robot
 
 REPO = Path(__file__).resolve().parents[3]
 

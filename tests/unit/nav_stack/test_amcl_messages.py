@@ -13,7 +13,7 @@ pytest.importorskip("nav2_msgs.msg", reason="nav2_msgs is not built (run the int
 from diagnostic_msgs.msg import DiagnosticStatus
 
 from nav_stack.core.localization.health import HealthMonitor, HealthParams, HealthSample
-from nav_stack.ros.amcl_messages import (
+from nav_stack.ros.localization.amcl_messages import (
     LOCALIZATION_STATUS,
     covariance_3x3,
     estimate_msg,

@@ -8,10 +8,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from nav_stack.ros.bringup_plan import cmd_vel_remaps, plan_bringup
-from nav_stack.ros.config_check import ConfigError
-from nav_stack.ros.param_files import NavParams, ParamFileError
-from nav_stack.ros.plugin_catalog import NAVIGATION_NODES
+from nav_stack.ros.bringup.bringup_plan import cmd_vel_remaps, plan_bringup
+from nav_stack.ros.bringup.config_check import ConfigError
+from nav_stack.ros.bringup.param_files import NavParams, ParamFileError
+from nav_stack.ros.bringup.plugin_catalog import NAVIGATION_NODES
 
 REPO = Path(__file__).resolve().parents[3]
 JAZZY = REPO / "config" / "jazzy" / "nav2_params.yaml"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from nav_stack.ros.bringup_components import waiting_for
+from nav_stack.ros.bringup.bringup_components import waiting_for
 
 
 @dataclass

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from nav_stack.ros import bringup
-from nav_stack.ros.bringup_components import component_role
-from nav_stack.ros.goal_cli import _parser as goal_parser
+from nav_stack.ros.bringup import nav_bringup as bringup
+from nav_stack.ros.bringup.bringup_components import component_role
+from nav_stack.ros.tools.goal_cli import _parser as goal_parser
 
 REPO = Path(__file__).resolve().parents[3]
 

@@ -10,15 +10,15 @@ from pathlib import Path
 import pytest
 import yaml
 
-from nav_stack.ros.bringup_plan import OWNED_SECTIONS, plan_bringup
-from nav_stack.ros.namespaced_params import (
+from nav_stack.ros.bringup.bringup_plan import OWNED_SECTIONS, plan_bringup
+from nav_stack.ros.bringup.namespaced_params import (
     foreign_topics,
     namespace_remaps,
     namespaced_files,
     namespaced_tree,
     robot_namespace,
 )
-from nav_stack.ros.param_files import NavParams
+from nav_stack.ros.bringup.param_files import NavParams
 
 REPO = Path(__file__).resolve().parents[3]
 MULTIROBOT = REPO / "config" / "fleet" / "nav2_multirobot_params_all.yaml"

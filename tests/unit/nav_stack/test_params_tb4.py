@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 import yaml
 
-from nav_stack.ros.robot_params import ROBOTS, params_for_robot
+from nav_stack.ros.bringup.robot_params import ROBOTS, params_for_robot
 from sim2d.core import robot as sim_robots
 
 CONFIG = Path(__file__).resolve().parents[3] / "config"

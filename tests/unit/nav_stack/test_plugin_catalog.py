@@ -10,15 +10,9 @@ from __future__ import annotations
 import pytest
 
 from nav_stack.core.collision_monitor.params import POLYGON_TYPES
-from nav_stack.ros import (
-    behavior_server,
-    bringup_components,
-    controller_plugins,
-    docking_plugins,
-    planner_server,
-    smoother_server,
-)
-from nav_stack.ros.plugin_catalog import (
+from nav_stack.ros.behaviors import behavior_server
+from nav_stack.ros.bringup import bringup_components
+from nav_stack.ros.bringup.plugin_catalog import (
     AVAILABLE_NODES,
     BEHAVIORS,
     COLLISION_POLYGONS,
@@ -30,6 +24,9 @@ from nav_stack.ros.plugin_catalog import (
     SMOOTHERS,
     class_name,
 )
+from nav_stack.ros.control import controller_plugins
+from nav_stack.ros.docking import docking_plugins
+from nav_stack.ros.planning import planner_server, smoother_server
 
 
 @pytest.mark.parametrize(("catalog", "factory"), [

@@ -1,0 +1,2 @@
+"""behavior_server: spin, back up, drive on heading, wait, assisted teleop.
+"""

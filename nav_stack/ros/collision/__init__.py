@@ -1,0 +1,2 @@
+"""collision_monitor: the node, its data sources and its polygon markers.
+"""

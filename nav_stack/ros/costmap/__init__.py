@@ -1,0 +1,2 @@
+"""Costmap2DROS: the layered costmap node, its parameters and its publishers.
+"""

@@ -1,0 +1,2 @@
+"""planner_server and smoother_server.
+"""

@@ -1,0 +1,2 @@
+"""Console tools for a running stack: nav-goal and the keyboard teleop.
+"""
