@@ -37,7 +37,6 @@ from nav2_msgs.action import AssistedTeleop, BackUp, DriveOnHeading, Spin, Wait
 from nav2_msgs.msg import Costmap
 from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from std_msgs.msg import Empty
 
 from nav_stack.core import behaviors
@@ -49,6 +48,7 @@ from nav_stack.ros.common.conversions import duration_msg, duration_to_seconds, 
 from nav_stack.ros.common.frames import FrameError, Frames
 from nav_stack.ros.common.goal_runs import GoalRun, Outcome
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.common.qos import DEFAULT, LATCHED
 from nav_stack.ros.lifecycle.node import NavLifecycleNode
@@ -331,9 +331,7 @@ class BehaviorServer(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The behavior_server node (a list, like the other servers' ``build_nodes``)."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [BehaviorServer(**kwargs)]
 
 

@@ -54,6 +54,7 @@ from nav_stack.ros.collision.collision_monitor_markers import collision_points_m
 from nav_stack.ros.collision.collision_monitor_sources import ObservationSource, SourceFrames, ZoneShapeInput
 from nav_stack.ros.common.frames import Frames
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.common.qos import DEFAULT
 from nav_stack.ros.lifecycle.node import NavLifecycleNode
@@ -256,9 +257,7 @@ class CollisionMonitorNode(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The collision_monitor node, ready to add to an executor."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [CollisionMonitorNode(**kwargs)]
 
 

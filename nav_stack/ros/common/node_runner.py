@@ -1,4 +1,4 @@
-"""The ``main()`` of every nav_stack server: ``python -m nav_stack.ros.<server> [--autostart]
+"""The ``main()`` of every nav_stack server, ``python -m nav_stack.ros.<group>.<server> [--autostart]
 [--executor events|single] [--ros-args ...]``.
 
 One shape for all of them (ros_tools.runtime.runner): the nodes (a server and the costmap node it
@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Callable, Sequence
+from typing import Any
+
+from rclpy.parameter import Parameter
 
 from ros_tools.runtime.runner import run_nodes, split_runner_flags
 
@@ -28,3 +31,12 @@ def run(build_nodes: Callable[[], Sequence[object]], argv: Sequence[str] | None 
     autostart, executor, rclpy_args = split_runner_flags(args, getattr(module, "__doc__", None))
     name = role or (args[0].rsplit("/", 1)[-1] if args else "nav_stack")
     return run_nodes(build_nodes, role=name, rclpy_args=rclpy_args, executor=executor, autostart=autostart)
+
+
+def with_sim_time(kwargs: dict[str, Any], use_sim_time: bool) -> dict[str, Any]:
+    """A server's node constructor ``kwargs`` with ``use_sim_time`` added to its parameter overrides
+    when asked: what every server's ``build_nodes(use_sim_time=...)`` passes on."""
+    if use_sim_time:
+        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
+                                         Parameter("use_sim_time", value=True)]
+    return kwargs

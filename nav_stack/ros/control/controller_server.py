@@ -33,7 +33,6 @@ from nav2_msgs.action import FollowPath
 from nav_msgs.msg import Odometry, Path
 from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
 from nav_stack.core.control import (
     CircleFootprint,
@@ -58,6 +57,7 @@ from nav_stack.ros.common.conversions import path_from_array, path_to_array
 from nav_stack.ros.common.frames import FrameError
 from nav_stack.ros.common.goal_runs import GoalRun, Outcome
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.common.qos import DEFAULT
 from nav_stack.ros.common.selectors import Selector
@@ -320,9 +320,7 @@ class ControllerServer(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """controller_server and its local_costmap node, ready to add to one executor."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     server = ControllerServer(**kwargs)
     return [server, server.costmap_node]
 

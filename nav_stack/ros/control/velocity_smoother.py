@@ -22,10 +22,10 @@ from typing import Any
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
 from nav_stack.core.velocity_smoother import CLOSED_LOOP, CommandSmoother, Velocity, VelocitySmootherParams
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.common.qos import DEFAULT
 from nav_stack.ros.lifecycle.node import NavLifecycleNode
@@ -132,9 +132,7 @@ class VelocitySmoother(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The velocity_smoother node, ready to add to an executor."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [VelocitySmoother(**kwargs)]
 
 

@@ -24,7 +24,6 @@ from nav2_msgs.action import DockRobot, UndockRobot
 from nav2_msgs.srv import ReloadDockDatabase
 from rclpy.action import CancelResponse, GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
 from nav_stack.core.docking import (
     DockDatabase,
@@ -45,6 +44,7 @@ from nav_stack.ros.common.conversions import duration_msg
 from nav_stack.ros.common.frames import Frames
 from nav_stack.ros.common.goal_runs import GoalRun, Outcome
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.docking.docking_navigator import StagingNavigator
 from nav_stack.ros.docking.docking_plugins import (
@@ -270,9 +270,7 @@ class DockingServer(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The docking_server node (a list, like the other servers' ``build_nodes``)."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [DockingServer(**kwargs)]
 
 

@@ -40,7 +40,6 @@ from nav_msgs.msg import Odometry
 from rclpy.action import CancelResponse, GoalResponse
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
 from nav_stack.core.bt import BehaviorTreeFactory, Blackboard, BtError, NodeStatus, Tree, TreeNode
 from nav_stack.ros.bt_nodes import BtRosContext, SelectorTopics, register_ros_nodes
@@ -58,7 +57,7 @@ from nav_stack.ros.bt_nodes.navigators import (
 from nav_stack.ros.common.clock_watch import ClockWatch
 from nav_stack.ros.common.frames import Frames
 from nav_stack.ros.common.goal_runs import GoalRun, Outcome
-from nav_stack.ros.common.node_runner import run
+from nav_stack.ros.common.node_runner import run, with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.common.qos import DEFAULT
 from nav_stack.ros.lifecycle.node import NavLifecycleNode
@@ -390,9 +389,7 @@ class BtNavigator(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The bt_navigator node (``kwargs`` go to its constructor: context, cli_args, overrides)."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [BtNavigator(**kwargs)]
 
 

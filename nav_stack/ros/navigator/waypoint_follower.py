@@ -30,9 +30,8 @@ from nav2_msgs.action import FollowWaypoints, NavigateToPose
 from nav2_msgs.msg import MissedWaypoint
 from rclpy.action import ActionClient, CancelResponse, GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
-from nav_stack.ros.common.node_runner import run
+from nav_stack.ros.common.node_runner import run, with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.lifecycle.node import NavLifecycleNode
 from ros_tools.runtime.actions import ActionServer, acknowledged
@@ -197,9 +196,7 @@ class WaypointFollower(NavLifecycleNode):
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The waypoint_follower node (``kwargs`` go to its constructor)."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [WaypointFollower(**kwargs)]
 
 

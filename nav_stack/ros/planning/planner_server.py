@@ -36,7 +36,6 @@ from nav2_msgs.srv import IsPathValid
 from nav_msgs.msg import Path
 from rclpy.action import GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 
 from nav_stack.core.grid import INSCRIBED_INFLATED_OBSTACLE
@@ -55,6 +54,7 @@ from nav_stack.ros.bringup.param_layout import param
 from nav_stack.ros.common.conversions import duration_msg, path_from_array
 from nav_stack.ros.common.frames import FrameError
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass, on_dataclass_update
 from nav_stack.ros.common.selectors import Selector
 from nav_stack.ros.costmap.costmap_ros import CostmapROS, run_transition
@@ -278,9 +278,7 @@ def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
 
     ``kwargs`` go to both node constructors (``context``, ``cli_args`` with ``--params-file``, ...).
     """
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     server = PlannerServer(**kwargs)
     return [server, server.costmap_node]
 

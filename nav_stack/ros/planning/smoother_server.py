@@ -35,7 +35,6 @@ from nav2_msgs.msg import Costmap
 from nav_msgs.msg import Path
 from rclpy.action import GoalResponse
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 
 from nav_stack.core.control import CircleFootprint, CostGrid, PolygonFootprint
 from nav_stack.core.geometry import FloatArray, from_frame, to_frame
@@ -57,6 +56,7 @@ from nav_stack.ros.common.conversions import (
 )
 from nav_stack.ros.common.frames import FrameError, Frames
 from nav_stack.ros.common.node_runner import run as run_nodes
+from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
 from nav_stack.ros.common.qos import LATCHED
 from nav_stack.ros.docking.docking_world import cost_grid
@@ -243,9 +243,7 @@ def with_poses(path: Path, poses: FloatArray) -> Path:
 
 def build_nodes(use_sim_time: bool = False, **kwargs: Any) -> list[Node]:
     """The smoother_server node (a list, like the other servers' ``build_nodes``)."""
-    if use_sim_time:
-        kwargs["parameter_overrides"] = [*kwargs.get("parameter_overrides", []),
-                                         Parameter("use_sim_time", value=True)]
+    kwargs = with_sim_time(kwargs, use_sim_time)
     return [SmootherServer(**kwargs)]
 
 
