@@ -46,7 +46,7 @@ from nav_stack.core.geometry import to_frame
 from nav_stack.ros.bringup.param_layout import param
 from nav_stack.ros.common.conversions import duration_msg, duration_to_seconds, spec_from_info
 from nav_stack.ros.common.frames import FrameError, Frames
-from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome, cancel_current
 from nav_stack.ros.common.node_runner import run as run_nodes
 from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
@@ -250,11 +250,7 @@ class BehaviorServer(NavLifecycleNode):
         run.finish(Outcome.ABORTED, 0, reason)
 
     def _cancel(self, handle: Any) -> CancelResponse:
-        run = self._current
-        if run is not None and run.handle is handle:
-            run.stop_requested = True
-            self._cmd.stop()
-        return CancelResponse.ACCEPT
+        return cancel_current(self._current, handle, self._cmd.stop)
 
     # -- the cycle ---------------------------------------------------------------------------------
     def _cycle(self) -> None:

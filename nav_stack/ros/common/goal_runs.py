@@ -13,8 +13,10 @@ cancel is only acknowledged (``canceled``) once rclpy has moved the goal to CANC
 from __future__ import annotations
 
 import enum
+from collections.abc import Callable
 from typing import Any
 
+from rclpy.action import CancelResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.task import Future
 
@@ -60,3 +62,14 @@ class GoalRun:
         elif self.handle.is_active:
             self.handle.abort()
         return self.result
+
+
+def cancel_current(run: GoalRun | None, handle: ServerGoalHandle,
+                   stop_robot: Callable[[], None]) -> CancelResponse:
+    """The cancel callback of a server that runs one goal at a time (controller_server, behavior_server,
+    docking_server): a request for the running goal stops the robot at once and asks the server's next
+    cycle to end the run (``stop_requested``); every request is accepted, as Nav2's servers do."""
+    if run is not None and run.handle is handle:
+        run.stop_requested = True
+        stop_robot()
+    return CancelResponse.ACCEPT

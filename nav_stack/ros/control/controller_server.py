@@ -55,7 +55,7 @@ from nav_stack.core.control.follow_path import (
 from nav_stack.core.costmap import CostmapParams
 from nav_stack.ros.common.conversions import path_from_array, path_to_array
 from nav_stack.ros.common.frames import FrameError
-from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome, cancel_current
 from nav_stack.ros.common.node_runner import run as run_nodes
 from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
@@ -240,11 +240,7 @@ class ControllerServer(NavLifecycleNode):
         return Plugins(*(s[i] for s, i in zip(sets, ids, strict=True)))
 
     def _cancel(self, handle: Any) -> CancelResponse:
-        run = self._current
-        if run is not None and run.handle is handle:
-            run.stop_requested = True
-            self._cmd.stop()
-        return CancelResponse.ACCEPT
+        return cancel_current(self._current, handle, self._cmd.stop)
 
     # -- the control cycle -------------------------------------------------------------------------
     def _cycle(self) -> None:

@@ -42,7 +42,7 @@ from nav_stack.core.geometry import Pose2D, yaw_or_nan
 from nav_stack.ros.bringup.param_layout import build, declare_fields
 from nav_stack.ros.common.conversions import duration_msg
 from nav_stack.ros.common.frames import Frames
-from nav_stack.ros.common.goal_runs import GoalRun, Outcome
+from nav_stack.ros.common.goal_runs import GoalRun, Outcome, cancel_current
 from nav_stack.ros.common.node_runner import run as run_nodes
 from nav_stack.ros.common.node_runner import with_sim_time
 from nav_stack.ros.common.params import declare_dataclass
@@ -163,11 +163,7 @@ class DockingServer(NavLifecycleNode):
         return GoalResponse.ACCEPT if self._active else GoalResponse.REJECT
 
     def _cancel(self, handle: Any) -> CancelResponse:
-        run = self._current
-        if run is not None and run.handle is handle:
-            run.stop_requested = True
-            self._cmd.stop()
-        return CancelResponse.ACCEPT
+        return cancel_current(self._current, handle, self._cmd.stop)
 
     async def _execute_dock(self, handle: Any) -> Any:
         goal = handle.request
