@@ -24,8 +24,12 @@ def _idle_error(node: ControlNode) -> BtRuntimeError:
     return BtRuntimeError(f"{node.config.path}: a child returned IDLE")
 
 
-class Sequence(ControlNode):
-    """Tick children in order; fail on the first failure; resume at a RUNNING child."""
+class _OrderedBase(ControlNode):
+    """Shared loop of Sequence (stops on FAILURE) and Fallback (stops on SUCCESS): the children in
+    order, resuming at a RUNNING child; all of them SKIPPED makes the node SKIPPED."""
+
+    _stop_on: NodeStatus = NodeStatus.FAILURE
+    _finish: NodeStatus = NodeStatus.SUCCESS
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
@@ -41,9 +45,9 @@ class Sequence(ControlNode):
             child_status = self.children[self.current_child_idx].execute_tick()
             if child_status is NodeStatus.RUNNING:
                 return NodeStatus.RUNNING
-            if child_status is NodeStatus.FAILURE:
-                self._on_failure()
-                return NodeStatus.FAILURE
+            if child_status is self._stop_on:
+                self._on_stop()
+                return self._stop_on
             if child_status is NodeStatus.SKIPPED:
                 self._skipped += 1
             elif child_status is NodeStatus.IDLE:
@@ -53,9 +57,10 @@ class Sequence(ControlNode):
         self.reset_children()
         self.current_child_idx = 0
         self._skipped = 0
-        return NodeStatus.SKIPPED if all_skipped else NodeStatus.SUCCESS
+        return NodeStatus.SKIPPED if all_skipped else self._finish
 
-    def _on_failure(self) -> None:
+    def _on_stop(self) -> None:
+        """A child ended the loop early: start again from the first child next time."""
         self.reset_children()
         self.current_child_idx = 0
 
@@ -65,10 +70,14 @@ class Sequence(ControlNode):
         super().halt()
 
 
+class Sequence(_OrderedBase):
+    """Tick children in order; fail on the first failure; resume at a RUNNING child."""
+
+
 class SequenceWithMemory(Sequence):
     """A Sequence that keeps its place on failure and on halt (v3 name: ``SequenceStar``)."""
 
-    def _on_failure(self) -> None:
+    def _on_stop(self) -> None:
         for index in range(self.current_child_idx, len(self.children)):
             self.halt_child(index)
 
@@ -77,42 +86,11 @@ class SequenceWithMemory(Sequence):
         ControlNode.halt(self)
 
 
-class Fallback(ControlNode):
+class Fallback(_OrderedBase):
     """Tick children in order until one succeeds; resume at a RUNNING child."""
 
-    def __init__(self, name: str, config: NodeConfig) -> None:
-        super().__init__(name, config)
-        self.current_child_idx = 0
-        self._skipped = 0
-
-    def tick(self) -> NodeStatus:
-        if not self.status.is_active:
-            self._skipped = 0
-        self.set_status(NodeStatus.RUNNING)
-        count = len(self.children)
-        while self.current_child_idx < count:
-            child_status = self.children[self.current_child_idx].execute_tick()
-            if child_status is NodeStatus.RUNNING:
-                return NodeStatus.RUNNING
-            if child_status is NodeStatus.SUCCESS:
-                self.reset_children()
-                self.current_child_idx = 0
-                return NodeStatus.SUCCESS
-            if child_status is NodeStatus.SKIPPED:
-                self._skipped += 1
-            elif child_status is NodeStatus.IDLE:
-                raise _idle_error(self)
-            self.current_child_idx += 1
-        all_skipped = self._skipped == count
-        self.reset_children()
-        self.current_child_idx = 0
-        self._skipped = 0
-        return NodeStatus.SKIPPED if all_skipped else NodeStatus.FAILURE
-
-    def halt(self) -> None:
-        self.current_child_idx = 0
-        self._skipped = 0
-        super().halt()
+    _stop_on = NodeStatus.SUCCESS
+    _finish = NodeStatus.FAILURE
 
 
 class _ReactiveBase(ControlNode):
