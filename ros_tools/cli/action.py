@@ -22,6 +22,8 @@ from rclpy.action.graph import (
 from ros_tools.cli.common import (
     CliError,
     Session,
+    add_command,
+    add_list_verb,
     add_wait_options,
     full_name,
     node_names,
@@ -42,15 +44,9 @@ STATUS_NAMES = {
 
 def register(subparsers: Any) -> None:
     """Add ``action`` and its verbs to the top-level parser."""
-    action = subparsers.add_parser("action", help="list actions and send goals")
-    action.set_defaults(help_parser=action)
-    verbs = action.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "action", "list actions and send goals")
 
-    p = verbs.add_parser("list", help="list the actions in the graph")
-    p.add_argument("-t", "--show-types", action="store_true", help="also print each action's type")
-    p.add_argument("-c", "--count-actions", action="store_true", help="only print the number of actions")
-    add_wait_options(p)
-    p.set_defaults(handler=run_list)
+    add_list_verb(verbs, "actions", run_list, hidden=False)
 
     p = verbs.add_parser("info", help="the servers and clients of an action")
     p.add_argument("action_name")

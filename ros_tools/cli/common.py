@@ -161,6 +161,25 @@ def ros_session(executor_kind: str | None = None) -> Iterator[Session]:
                 node.destroy_node()  # type: ignore[no-untyped-call]
 
 
+def add_command(subparsers: Any, command: str, help_text: str) -> Any:
+    """``ros2py <command>``'s parser; its verbs' subparsers (``verb`` names the chosen one)."""
+    parser = subparsers.add_parser(command, help=help_text)
+    parser.set_defaults(help_parser=parser)
+    return parser.add_subparsers(dest="verb", metavar="VERB")
+
+
+def add_list_verb(verbs: Any, plural: str, handler: Callable[..., int], hidden: bool = True) -> None:
+    """``<command> list`` with ros2cli's options: ``-t/--show-types``, ``-c/--count-<plural>`` and, where
+    names can be hidden (topics, services), ``--include-hidden-<plural>``."""
+    p = verbs.add_parser("list", help=f"list the {plural} in the graph")
+    p.add_argument("-t", "--show-types", action="store_true", help=f"also print each {plural[:-1]}'s type")
+    p.add_argument("-c", f"--count-{plural}", action="store_true", help=f"only print the number of {plural}")
+    if hidden:
+        p.add_argument(f"--include-hidden-{plural}", action="store_true", help=f"include hidden {plural}")
+    add_wait_options(p)
+    p.set_defaults(handler=handler)
+
+
 def add_wait_options(parser: argparse.ArgumentParser) -> None:
     """The discovery options every ROS-facing verb accepts."""
     parser.add_argument(

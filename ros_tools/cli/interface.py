@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ros_tools.cli.common import CliError
+from ros_tools.cli.common import CliError, add_command
 from ros_tools.types import KINDS, PRIMITIVES, parse_type_name
 
 _KIND_TITLES = {"msg": "Messages", "srv": "Services", "action": "Actions"}
@@ -28,9 +28,7 @@ _FIELD_TYPE_RE = re.compile(r"^([A-Za-z][A-Za-z0-9_/]*)")
 
 def register(subparsers: Any) -> None:
     """Add ``interface`` and its verbs to the top-level parser."""
-    interface = subparsers.add_parser("interface", help="show interface definitions")
-    interface.set_defaults(help_parser=interface)
-    verbs = interface.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "interface", "show interface definitions")
 
     p = verbs.add_parser("show", help="print an interface definition, nested types expanded")
     p.add_argument("type", help="e.g. nav2_msgs/action/NavigateToPose or geometry_msgs/Pose")

@@ -15,14 +15,12 @@ from rclpy.action.graph import (
     get_action_server_names_and_types_by_node,
 )
 
-from ros_tools.cli.common import Session, add_wait_options, node_names, visible, wait_for_node
+from ros_tools.cli.common import Session, add_command, add_wait_options, node_names, visible, wait_for_node
 
 
 def register(subparsers: Any) -> None:
     """Add ``node`` and its verbs to the top-level parser."""
-    node = subparsers.add_parser("node", help="list nodes and show what they offer")
-    node.set_defaults(help_parser=node)
-    verbs = node.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "node", "list nodes and show what they offer")
 
     p = verbs.add_parser("list", help="list the nodes in the graph")
     p.add_argument("-a", "--all", action="store_true", help="include hidden nodes (names starting with _)")

@@ -15,7 +15,7 @@ from rcl_interfaces.msg import ParameterType
 from rclpy.parameter import get_parameter_value, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 
-from ros_tools.cli.common import CliError, Session, add_wait_options, node_names, wait_for_node
+from ros_tools.cli.common import CliError, Session, add_command, add_wait_options, node_names, wait_for_node
 from ros_tools.convert import dump_yaml
 
 #: ParameterType → the words ``ros2 param get`` prints before the value.
@@ -34,9 +34,7 @@ VALUE_LABELS = {
 
 def register(subparsers: Any) -> None:
     """Add ``param`` and its verbs to the top-level parser."""
-    param = subparsers.add_parser("param", help="list, get, set and dump node parameters")
-    param.set_defaults(help_parser=param)
-    verbs = param.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "param", "list, get, set and dump node parameters")
 
     p = verbs.add_parser("list", help="list the parameters of one node or of every node")
     p.add_argument("node_name", nargs="?")

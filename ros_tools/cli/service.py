@@ -12,6 +12,8 @@ from typing import Any
 from ros_tools.cli.common import (
     CliError,
     Session,
+    add_command,
+    add_list_verb,
     add_wait_options,
     full_name,
     now_msg,
@@ -25,16 +27,9 @@ from ros_tools.types import import_type, looks_like_type_name
 
 def register(subparsers: Any) -> None:
     """Add ``service`` and its verbs to the top-level parser."""
-    service = subparsers.add_parser("service", help="list and call services")
-    service.set_defaults(help_parser=service)
-    verbs = service.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "service", "list and call services")
 
-    p = verbs.add_parser("list", help="list the services in the graph")
-    p.add_argument("-t", "--show-types", action="store_true", help="also print each service's type")
-    p.add_argument("-c", "--count-services", action="store_true", help="only print the number of services")
-    p.add_argument("--include-hidden-services", action="store_true", help="include hidden services")
-    add_wait_options(p)
-    p.set_defaults(handler=run_list)
+    add_list_verb(verbs, "services", run_list)
 
     p = verbs.add_parser("type", help="print the type of a service")
     p.add_argument("service_name")

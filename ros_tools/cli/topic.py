@@ -18,6 +18,8 @@ from rclpy.duration import Duration
 from ros_tools.cli.common import (
     CliError,
     Session,
+    add_command,
+    add_list_verb,
     add_qos_options,
     add_wait_options,
     full_name,
@@ -40,16 +42,9 @@ from ros_tools.types import import_type, type_name_of
 
 def register(subparsers: Any) -> None:
     """Add ``topic`` and its verbs to the top-level parser."""
-    topic = subparsers.add_parser("topic", help="inspect, echo and publish topics")
-    topic.set_defaults(help_parser=topic)
-    verbs = topic.add_subparsers(dest="verb", metavar="VERB")
+    verbs = add_command(subparsers, "topic", "inspect, echo and publish topics")
 
-    p = verbs.add_parser("list", help="list the topics in the graph")
-    p.add_argument("-t", "--show-types", action="store_true", help="also print each topic's type")
-    p.add_argument("-c", "--count-topics", action="store_true", help="only print the number of topics")
-    p.add_argument("--include-hidden-topics", action="store_true", help="include hidden topics")
-    add_wait_options(p)
-    p.set_defaults(handler=run_list)
+    add_list_verb(verbs, "topics", run_list)
 
     p = verbs.add_parser("info", help="type and publisher/subscription counts of a topic")
     p.add_argument("topic_name")
