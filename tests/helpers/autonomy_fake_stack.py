@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
-import threading
 
 from ros_tools.dds import keep_dds_local
 
@@ -22,7 +20,7 @@ def main() -> int:
     from rclpy.context import Context
     from sensor_msgs.msg import BatteryState
 
-    from tests.helpers.smacc_ros_fake_nav2 import FakeNav2
+    from tests.helpers.smacc_ros_fake_nav2 import FakeNav2, serve_until_signalled
 
     parser = argparse.ArgumentParser()
     parser.add_argument("--rtf", type=float, default=10.0)
@@ -50,14 +48,7 @@ def main() -> int:
 
     fake.node.create_timer(0.02, battery)
     fake.start()
-    stop = threading.Event()
-    signal.signal(signal.SIGINT, lambda *_: stop.set())
-    signal.signal(signal.SIGTERM, lambda *_: stop.set())
-    print("fake stack with battery up; Nav2 is ready", flush=True)
-    stop.wait()
-    fake.stop()
-    rclpy.shutdown(context=context)
-    return 0
+    return serve_until_signalled(fake, context, "fake stack with battery up; Nav2 is ready")
 
 
 if __name__ == "__main__":

@@ -323,7 +323,6 @@ class FakeNav2:
 def main() -> int:
     """Run FakeNav2 as a process (stands in for ``nav-bringup`` in demo tests); prints "Nav2 is ready"."""
     import argparse
-    import signal
 
     keep_dds_local()
     import rclpy
@@ -339,10 +338,20 @@ def main() -> int:
     rclpy.init(context=context)
     scripts = {"navigate_to_pose": ["aborted"]} if options.abort_navigation else None
     fake = FakeNav2(context, scripts=scripts, clock_rate=options.rtf, lockstep_roles=options.lockstep).start()
+    return serve_until_signalled(fake, context, "fake stack up; Nav2 is ready")
+
+
+def serve_until_signalled(fake: FakeNav2, context: Any, ready_line: str) -> int:
+    """Run a started fake as a stack process: print ``ready_line`` (what the launcher waits for), serve
+    until SIGINT or SIGTERM, then stop the fake and shut its context down; exit status 0."""
+    import signal
+
+    import rclpy
+
     stop = threading.Event()
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
-    print("fake stack up; Nav2 is ready", flush=True)
+    print(ready_line, flush=True)
     stop.wait()
     fake.stop()
     rclpy.shutdown(context=context)
