@@ -62,7 +62,7 @@ PROCESS_NAMES = (
     ("bringup component navigation", "navigation"),
     ("sim2d.ros.cli", "sim2d"),
     ("initial_pose_publisher", "initial_pose"),
-    ("ros_tools.bag", "recorder"),
+    ("navsuite_tools.bag", "recorder"),
     ("nav_stack.ros.bringup.nav_bringup", "nav-bringup (launcher)"),
     ("nav-bringup", "nav-bringup (launcher)"),
 )

@@ -1,6 +1,6 @@
 """Fault matrix (issue 45): each fault kind x {seed state machine, seed tree, 2-goal mission} x N seeds.
 
-Every cell is one scenario of the farm (ros_tools/scenarios: the real stack over DDS, in lockstep), with
+Every cell is one scenario of the farm (navsuite_tools/scenarios: the real stack over DDS, in lockstep), with
 one fault event injected at ``AT`` s of sim time (shifted by 0.5 s per seed) and sim2d seeded with the
 seed, so the seeds see different noise and different moments of the mission. What each run must show
 (the issue's bar): it ends (SUCCESS, or a named fault with its Nav2 code; the farm's deadline is the
@@ -106,7 +106,7 @@ def scenario_file(faults: list[str], missions: list[str], seeds: int, path: Path
 
 def goal_distance(mcap: Path) -> float | None:
     """m between the last ground-truth pose and the end of the last /plan in ``mcap``."""
-    from ros_tools.bag.reader import BagReader
+    from navsuite_tools.bag.reader import BagReader
 
     with BagReader(mcap) as reader:
         last: dict[str, Any] = {}
@@ -159,8 +159,9 @@ def main(argv: list[str] | None = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     names = scenario_file(args.faults, missions, args.seeds, out / "fault_matrix.yaml")
     started = time.monotonic()
-    subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(out / "fault_matrix.yaml"),
-                    "--workers", str(args.workers), "--out", str(out / "farm")], cwd=REPO, check=False)
+    subprocess.run([sys.executable, "-m", "navsuite_tools.scenarios.main", "run",
+                    str(out / "fault_matrix.yaml"), "--workers", str(args.workers),
+                    "--out", str(out / "farm")], cwd=REPO, check=False)
     cells = {name: read_cell(out / "farm" / name) for name in names
              if (out / "farm" / name / "result.json").exists()}
     wall = time.monotonic() - started

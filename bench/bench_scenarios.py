@@ -22,9 +22,9 @@ import time
 from pathlib import Path
 
 from bench.harness import Benchmark, code_version_with_fingerprint, version_note
-from ros_tools.scenarios.farm import injected_events
-from ros_tools.scenarios.schema import load_scenarios
-from ros_tools.scenarios.verdict import Outcome, judge
+from navsuite_tools.scenarios.farm import injected_events
+from navsuite_tools.scenarios.schema import load_scenarios
+from navsuite_tools.scenarios.verdict import Outcome, judge
 
 REPO = Path(__file__).resolve().parents[1]
 SHIPPED = REPO / "config" / "scenarios" / "seed_missions.yaml"
@@ -33,8 +33,9 @@ SHIPPED = REPO / "config" / "scenarios" / "seed_missions.yaml"
 def run_pass(file: Path, workers: int, selection: list[str], out: Path,
              domains: str | None) -> tuple[float, dict[str, bool], int]:
     """One farm run: (wall s, scenario → passed, exit code)."""
-    command = [sys.executable, "-m", "ros_tools.scenarios.main", "run", str(file), "--workers", str(workers),
-               "--out", str(out), *(arg for name in selection for arg in ("-k", name)),
+    command = [sys.executable, "-m", "navsuite_tools.scenarios.main", "run", str(file),
+               "--workers", str(workers), "--out", str(out),
+               *(arg for name in selection for arg in ("-k", name)),
                *(["--domains", domains] if domains else [])]
     started = time.monotonic()
     proc = subprocess.run(command, cwd=REPO, capture_output=True, text=True)

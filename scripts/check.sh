@@ -13,7 +13,7 @@ step() { printf '\n== %s\n' "$*"; }
 step "ruff"
 "$VENV/bin/ruff" check .
 step "mypy"
-"$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools navsuite_data navsuite_testing
+"$VENV/bin/mypy" sim2d nav_stack smacc_py ros_tools navsuite_tools navsuite_data navsuite_testing
 step "import-linter"
 "$VENV/bin/lint-imports"
 step "vulture (dead code)"

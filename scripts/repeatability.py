@@ -2,7 +2,7 @@
 
 Why: issue 17 asks that a seed mission give the same result on every run. A mission that ends
 SUCCESS once and ABORT the next diverged somewhere long before; this tool finds where
-(ros_tools/bag/compare.py does the work: stamped topics lined up by header stamp, unstamped ones by
+(navsuite_tools/bag/compare.py does the work: stamped topics lined up by header stamp, unstamped ones by
 order, the first difference beyond ``--tol`` per topic).
 
 Usage::
@@ -24,7 +24,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from ros_tools.bag.compare import DEFAULT_TOPICS, compare_recordings
+from navsuite_tools.bag.compare import DEFAULT_TOPICS, compare_recordings
 
 
 def _mcap(arg: str) -> Path:

@@ -79,7 +79,7 @@ fi
 # never caches it, and every process of a stack compiled its modules from source again: 0.7 s of CPU
 # per stack start (4.4 s against 3.7 s for nav-bringup to "Nav2 is ready", 2026-11-28). Python checks
 # each file against its source, so an edited module is compiled afresh until the next setup.
-"$VENV/bin/python" -m compileall -q -j 0 nav_stack sim2d smacc_py ros_tools navsuite_data tests bench >/dev/null
+"$VENV/bin/python" -m compileall -q -j 0 nav_stack sim2d smacc_py ros_tools navsuite_tools navsuite_data tests bench >/dev/null
 
 # The viewer's browser test drives the system's Chromium (never a downloaded browser).
 if [ "$WITH_BROWSER" = 1 ] && ! command -v chromium >/dev/null 2>&1; then

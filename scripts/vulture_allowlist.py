@@ -26,11 +26,11 @@ _: Any = None
 # 4. xml.parsers.expat calls the handlers assigned to these attributes (nav_stack/core/bt/xml_model.py).
 (_.StartElementHandler, _.EndElementHandler)
 
-# 5. http.server reads these class attributes and calls do_<VERB> and log_message (ros_tools/viewer).
+# 5. http.server reads these class attributes and calls do_<VERB> and log_message (navsuite_tools/viewer).
 (_.daemon_threads, _.allow_reuse_address, _.protocol_version, _.close_connection, _.do_GET, _.do_POST,
  _.log_message)
 
-# 6. pytest calls a collected Item's runtest and reportinfo (ros_tools/scenarios/pytest_plugin.py).
+# 6. pytest calls a collected Item's runtest and reportinfo (navsuite_tools/scenarios/pytest_plugin.py).
 (_.runtest, _.reportinfo)
 
 # 7. Python protocols on a metaclass and a module: EventMeta[...] and repr, module __getattr__ (PEP 562).

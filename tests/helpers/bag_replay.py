@@ -27,11 +27,11 @@ from rclpy.serialization import deserialize_message
 from rosgraph_msgs.msg import Clock
 
 from navsuite_testing.ros import start_python, stop_process
-from ros_tools.bag.qos import parse_offered_qos, request_for_offers
-from ros_tools.bag.reader import BagReader
+from navsuite_tools.bag.qos import parse_offered_qos, request_for_offers
+from navsuite_tools.bag.reader import BagReader
 from ros_tools.types import import_type
 
-BAG_CLI = "ros_tools.bag.main"
+BAG_CLI = "navsuite_tools.bag.main"
 #: History depth of the counting subscriptions: a burst from a player catching up must not
 #: overwrite messages the test thread has not taken yet.
 COUNT_DEPTH = 1000

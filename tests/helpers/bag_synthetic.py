@@ -17,7 +17,7 @@ from nav_msgs.msg import Path as PathMsg
 from smacc2_msgs.msg import SmaccTransition, SmaccTransitionLogEntry
 from std_msgs.msg import Header
 
-from ros_tools.bag.writer import BagWriter
+from navsuite_tools.bag.writer import BagWriter
 
 T0 = 100.0
 DURATION = 20.0

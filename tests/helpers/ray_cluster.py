@@ -19,7 +19,7 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-from ros_tools.scenarios.executor import processes_with_env
+from navsuite_tools.scenarios.executor import processes_with_env
 
 TAG = "NAVSUITE_RAY_TEST"
 RAY = str(Path(sys.executable).with_name("ray"))

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.image import imread
 
-from ros_tools.report.render import UNKNOWN_RGB
+from navsuite_tools.report.render import UNKNOWN_RGB
 
 
 def load_rgb(png: Path) -> np.ndarray:

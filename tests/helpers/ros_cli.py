@@ -1,6 +1,6 @@
 """Running ``ros2py`` as a user's shell would, and reading its ros2-style output.
 
-The CLI runs as a child process (``python -m ros_tools.cli.main``) that inherits the test's
+The CLI runs as a child process (``python -m navsuite_tools.cli.main``) that inherits the test's
 ROS_DOMAIN_ID and discovery range. Shared by the CLI's integration tests (fake nodes) and the
 system tests that drive the real stack with it.
 """
@@ -16,7 +16,7 @@ import yaml
 
 from navsuite_testing.ros import start_python
 
-CLI = "ros_tools.cli.main"
+CLI = "navsuite_tools.cli.main"
 #: Generous bounds for a loaded 2-core machine; a passing run is much faster.
 DISCOVERY = ["--timeout", "15"]
 PROCESS_TIMEOUT = 40.0

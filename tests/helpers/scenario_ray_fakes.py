@@ -11,9 +11,9 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ros_tools.scenarios.domains import DomainPool
-from ros_tools.scenarios.executor import Job
-from ros_tools.scenarios.verdict import Outcome
+from navsuite_tools.scenarios.domains import DomainPool
+from navsuite_tools.scenarios.executor import Job
+from navsuite_tools.scenarios.verdict import Outcome
 from tests.helpers.ray_cluster import TAG
 
 DIES_ONCE = "short_goal"  # this scenario's first attempt dies; any other scenario's every attempt does
@@ -25,7 +25,7 @@ def die_once_filed() -> None:
     counted itself as the first attempt."""
     import ray
 
-    from ros_tools.scenarios.cluster import RUNNING_ATTEMPT
+    from navsuite_tools.scenarios.cluster import RUNNING_ATTEMPT
 
     attempt = RUNNING_ATTEMPT.get()
     if attempt is not None:

@@ -25,7 +25,7 @@ pytest.importorskip("nav_stack.ros.bringup.nav_bringup", reason="the stack does 
 
 from nav_stack.core.velocity_smoother import VelocitySmootherParams, check_command_series
 from navsuite_testing.ros import REPO, SYSTEM_RTF
-from ros_tools.bag.reader import BagReader
+from navsuite_tools.bag.reader import BagReader
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]

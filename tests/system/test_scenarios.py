@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from ros_tools.scenarios.executor import processes_with_env
+from navsuite_tools.scenarios.executor import processes_with_env
 from tests.helpers.farm_selftest import SELFTEST, SELFTEST_VERDICTS
 
 pytestmark = [pytest.mark.slow, pytest.mark.ros]
@@ -47,7 +47,7 @@ def _left_behind(tmp_path: Path) -> list[int]:
 @pytest.mark.timeout(240)
 def test_the_farm_runs_scenarios_in_parallel_and_names_the_failing_criterion(tmp_path: Path) -> None:
     out = tmp_path / "farm"
-    run = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SELFTEST),
+    run = subprocess.run([sys.executable, "-m", "navsuite_tools.scenarios.main", "run", str(SELFTEST),
                           "--workers", "2", "--out", str(out)],
                          cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=220)
     console = run.stdout + run.stderr
@@ -72,8 +72,8 @@ def test_the_farm_runs_scenarios_in_parallel_and_names_the_failing_criterion(tmp
 
     # navsuite-scenarios rerun: the run recorded its file; the replay runs and is compared with it.
     # Exact replays are issue 43's goal, so either verdict may come; the wiring must not fail (exit 2).
-    again = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "rerun", str(out), "short_goal",
-                            "--out", str(tmp_path / "again")],
+    again = subprocess.run([sys.executable, "-m", "navsuite_tools.scenarios.main", "rerun", str(out),
+                            "short_goal", "--out", str(tmp_path / "again")],
                            cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=120)
     lines = again.stdout.splitlines()
     assert again.returncode in (0, 1), again.stdout + again.stderr
@@ -87,7 +87,7 @@ def test_the_farm_runs_scenarios_in_parallel_and_names_the_failing_criterion(tmp
 @pytest.mark.timeout(180)
 def test_pytest_scenarios_fails_the_built_to_fail_scenario_with_its_criterion(tmp_path: Path) -> None:
     env = dict(_tagged_env(tmp_path), PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")  # the plugin may be installed
-    run = subprocess.run([sys.executable, "-m", "pytest", "-p", "ros_tools.scenarios.pytest_plugin",
+    run = subprocess.run([sys.executable, "-m", "pytest", "-p", "navsuite_tools.scenarios.pytest_plugin",
                           "-p", "no:cacheprovider", "--scenarios", str(SELFTEST), "-k", "built_to_fail",
                           "--scenarios-out", str(tmp_path)],
                          cwd=REPO, env=env, capture_output=True, text=True, timeout=170)
@@ -103,7 +103,7 @@ def test_a_killed_navigation_process_is_respawned_and_the_mission_completes(tmp_
     """Issue 45: SIGKILL of the navigation process mid-goal; nav-bringup respawns it, the lifecycle
     managers bring it up, AMCL gets its last pose back, and the goal driver's retry reaches both goals."""
     out = tmp_path / "farm"
-    run = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SEED),
+    run = subprocess.run([sys.executable, "-m", "navsuite_tools.scenarios.main", "run", str(SEED),
                           "-k", "goals_navigation_killed", "--workers", "1", "--out", str(out)],
                          cwd=REPO, env=_tagged_env(tmp_path), capture_output=True, text=True, timeout=190)
     console = run.stdout + run.stderr

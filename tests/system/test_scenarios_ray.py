@@ -25,7 +25,7 @@ import pytest
 pytest.importorskip("ray", reason="the cluster extra is not installed (pip install navsuite[cluster])")
 
 from navsuite_testing.ros import wait_until
-from ros_tools.scenarios.executor import MARKER, processes_with_env
+from navsuite_tools.scenarios.executor import MARKER, processes_with_env
 from tests.helpers.farm_selftest import SELFTEST, SELFTEST_VERDICTS
 from tests.helpers.ray_cluster import TAG, local_cluster
 
@@ -55,8 +55,8 @@ def _scenario_processes(env: dict[str, str]) -> list[int]:
 
 
 def _farm(out: Path, env: dict[str, str], *backend: str) -> dict[str, dict[str, object]]:
-    run = subprocess.run([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SELFTEST), *SUBSET,
-                          "--out", str(out), *backend],
+    run = subprocess.run([sys.executable, "-m", "navsuite_tools.scenarios.main", "run", str(SELFTEST),
+                          *SUBSET, "--out", str(out), *backend],
                          cwd=REPO, env=env, capture_output=True, text=True, timeout=150)
     assert run.returncode == 1, run.stdout + run.stderr  # built_to_fail fails, on purpose
     return {name: json.loads((out / name / "result.json").read_text())
@@ -86,9 +86,9 @@ def test_a_ray_run_gives_the_local_verdicts_with_the_artifacts_back_here(
 @pytest.mark.timeout(120)
 def test_a_scenario_whose_worker_dies_is_requeued_once_and_says_so(
         cluster: tuple[str, dict[str, str]], tmp_path: Path) -> None:
-    from ros_tools.scenarios.cluster import RayExecutor
-    from ros_tools.scenarios.farm import run_all, select
-    from ros_tools.scenarios.schema import load_scenarios
+    from navsuite_tools.scenarios.cluster import RayExecutor
+    from navsuite_tools.scenarios.farm import run_all, select
+    from navsuite_tools.scenarios.schema import load_scenarios
     from tests.helpers.scenario_ray_fakes import dying_runner
 
     address, _env = cluster
@@ -109,8 +109,8 @@ def test_ctrl_c_cancels_the_ray_run_and_stops_its_scenarios(
     do): the farm must still hear the interrupt. Before it set its own handler, Python kept the
     inherited SIG_IGN and both scenarios ran to the end (local CI runs CH and CI)."""
     address, env = cluster
-    farm = subprocess.Popen([sys.executable, "-m", "ros_tools.scenarios.main", "run", str(SELFTEST), *SUBSET,
-                             "--out", str(tmp_path), "--ray", address],
+    farm = subprocess.Popen([sys.executable, "-m", "navsuite_tools.scenarios.main", "run", str(SELFTEST),
+                             *SUBSET, "--out", str(tmp_path), "--ray", address],
                             cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     try:

@@ -25,7 +25,7 @@ pytest.importorskip("nav_stack.ros.bringup.nav_bringup",
 
 from nav_stack.ros.bringup import nav_bringup as bringup
 from navsuite_testing.ros import REPO, SYSTEM_RTF
-from ros_tools.report.render import AMCL_COLOR, TRUTH_COLOR
+from navsuite_tools.report.render import AMCL_COLOR, TRUTH_COLOR
 from smacc_py.state_machines.sm_nav2_test_1 import NOMINAL_TRANSITIONS
 from smacc_py.state_machines.sm_nav2_test_1.demo import REPLAY_TOPICS
 from tests.helpers.bag_replay import bag_info, play_and_count

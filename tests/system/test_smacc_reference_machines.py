@@ -198,7 +198,8 @@ def test_sm_atomic_services_returns_on_each_service_call(on_graph: Callable[...,
     # 1 s ClRosTimer -> State2, SUCCESS), states/st_state_2.hpp (EvServiceRequestReceieved<CbServiceServer,
     # OrServices> -> State1, SUCCESS), orthogonals/or_services.hpp (serves and calls "service", Empty).
     run = on_graph("sm_atomic_services", "SmAtomicServices")
-    call = [*_command("ros2py", "ros_tools.cli.main"), "service", "call", "/service", "std_srvs/srv/Empty"]
+    call = [*_command("ros2py", "navsuite_tools.cli.main"), "service", "call", "/service",
+            "std_srvs/srv/Empty"]
     for cycle in range(2):
         run.run_until(run.count(2 * cycle + 1), "State1's countdown")
         on_entry = run.clock.now_s

@@ -67,8 +67,8 @@ def sim() -> Iterator[object]:
 
 @pytest.fixture
 def viewer(ros_context) -> Iterator[object]:
-    from ros_tools.viewer.main import ViewerApp
-    from ros_tools.viewer.params import ViewerParams
+    from navsuite_tools.viewer.main import ViewerApp
+    from navsuite_tools.viewer.params import ViewerParams
 
     app = ViewerApp(ViewerParams(port=0, discovery_period=0.3), context=ros_context).start()
     try:

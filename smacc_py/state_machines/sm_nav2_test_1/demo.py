@@ -83,14 +83,14 @@ def recorder_spec(report: Path) -> ProcessSpec:
     /sim2d/collisions or /plan may legitimately never be published before the run ends.
     """
     pattern = "^(" + "|".join(re.escape(topic) for topic in RECORDED_TOPICS) + ")$"
-    return ProcessSpec("record", [sys.executable, "-m", "ros_tools.bag.main", "record", "-e", pattern,
+    return ProcessSpec("record", [sys.executable, "-m", "navsuite_tools.bag.main", "record", "-e", pattern,
                                   "--use-sim-time", "-o", str(report.with_suffix(".mcap"))],
                        required=False)
 
 
 def write_run_report(report: Path, say: Callable[[str], None]) -> None:
     """Turn the run's recording into the report PNG and print where it is."""
-    from ros_tools.report.render import write_report
+    from navsuite_tools.report.render import write_report
 
     try:
         path = write_report(report.with_suffix(".mcap"), report)

@@ -1,6 +1,6 @@
 """Fixtures for the ros2py CLI tests: live nodes spun in a background thread, and CLI runners.
 
-The CLI runs as a child process (``python -m ros_tools.cli.main``) that inherits the test's
+The CLI runs as a child process (``python -m navsuite_tools.cli.main``) that inherits the test's
 ROS_DOMAIN_ID, exactly as a user's shell would run ``ros2py``; one-shot runs are
 tests/helpers/ros_cli.py's ``run_cli``.
 """

@@ -15,13 +15,13 @@ from mcap.writer import Writer
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import serialize_message
 
-from ros_tools.bag.info import format_info
-from ros_tools.bag.main import main
-from ros_tools.bag.qos import offered_qos_yaml, parse_offered_qos, playback_profile, request_for_offers
-from ros_tools.bag.reader import BagError, BagReader
-from ros_tools.bag.recorder import RecordOptions
-from ros_tools.bag.schema import message_definition
-from ros_tools.bag.writer import BagWriter
+from navsuite_tools.bag.info import format_info
+from navsuite_tools.bag.main import main
+from navsuite_tools.bag.qos import offered_qos_yaml, parse_offered_qos, playback_profile, request_for_offers
+from navsuite_tools.bag.reader import BagError, BagReader
+from navsuite_tools.bag.recorder import RecordOptions
+from navsuite_tools.bag.schema import message_definition
+from navsuite_tools.bag.writer import BagWriter
 from ros_tools.status_line import StatusLine, topic_counts
 from tests.helpers.bag_synthetic import DURATION, T0, write_synthetic_run
 

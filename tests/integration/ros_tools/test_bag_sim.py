@@ -16,10 +16,10 @@ from rclpy.qos import DurabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from navsuite_testing.ros import spin_until, start_python, stop_process, wait_until
-from ros_tools.bag.qos import parse_offered_qos
-from ros_tools.bag.reader import BagReader
-from ros_tools.report import ReportParams, write_report
-from ros_tools.report.render import TRUTH_COLOR
+from navsuite_tools.bag.qos import parse_offered_qos
+from navsuite_tools.bag.reader import BagReader
+from navsuite_tools.report import ReportParams, write_report
+from navsuite_tools.report.render import TRUTH_COLOR
 from tests.helpers.bag_replay import BAG_CLI, TopicCounter, bag_info, play_and_count
 from tests.helpers.bag_sim import PROCESS_TIMEOUT, record_sim
 from tests.helpers.report_pixels import distinct_colors, load_rgb, pixels_near

@@ -22,9 +22,9 @@ from typing import Any
 import pytest
 
 from navsuite_testing.ros import start_python, wait_until
-from ros_tools.bag.reader import BagError
-from ros_tools.bag.recorder import RecordOptions
-from ros_tools.bag.schema import message_definition
+from navsuite_tools.bag.reader import BagError
+from navsuite_tools.bag.recorder import RecordOptions
+from navsuite_tools.bag.schema import message_definition
 from tests.integration.ros_tools.conftest import StreamingCli
 
 pytestmark = pytest.mark.ros
@@ -35,7 +35,7 @@ FRAME_HEADER = struct.Struct("<BIQ")  # opcode, subscription id, log time (ns)
 
 
 def _options(*topics: str, port: int = 0) -> Any:
-    from ros_tools.bag.foxglove_live import FoxgloveOptions
+    from navsuite_tools.bag.foxglove_live import FoxgloveOptions
 
     selection = RecordOptions(output=Path(os.devnull), topics=topics, discovery_period=0.2)
     return FoxgloveOptions(selection=selection, port=port)
@@ -66,7 +66,7 @@ def _advertised(ws: Any, topics: set[str]) -> dict[str, dict[str, Any]]:
 
 @pytest.fixture
 def bridge(ros_context) -> Iterator[Any]:
-    from ros_tools.bag.foxglove_live import FoxgloveBridge
+    from navsuite_tools.bag.foxglove_live import FoxgloveBridge
 
     bridge = FoxgloveBridge(_options("/chatter", "/pose"), ros_context).start()
     try:
@@ -133,7 +133,7 @@ def test_topics_are_advertised_and_streamed_as_cdr(ros_context, bridge):
 
 
 def test_bad_port_and_busy_port_are_user_errors(ros_context):
-    from ros_tools.bag.foxglove_live import FoxgloveBridge
+    from navsuite_tools.bag.foxglove_live import FoxgloveBridge
 
     with pytest.raises(ValueError, match=r"port must be in 0\.\.65535, got 70000"):
         _options("/chatter", port=70000)
@@ -149,7 +149,7 @@ def test_cli_prints_the_url_serves_it_and_stops_cleanly_on_ctrl_c():
     from websockets.sync.client import connect
 
     url_line = re.compile(r"open (ws://127\.0\.0\.1:\d+) ")
-    run = StreamingCli(start_python("ros_tools.bag.main", ["foxglove", "/chatter", "--port", "0"]))
+    run = StreamingCli(start_python("navsuite_tools.bag.main", ["foxglove", "/chatter", "--port", "0"]))
     try:
         run.wait_for(lambda lines: any(url_line.search(line) for line in lines), WAIT, "the URL line")
         match = url_line.search(run.lines[0])  # the URL is the first line printed
@@ -167,7 +167,7 @@ def test_cli_prints_the_url_serves_it_and_stops_cleanly_on_ctrl_c():
 
 
 def test_missing_sdk_is_one_line_and_exit_code_2(monkeypatch, capsys):
-    from ros_tools.bag import main as bag_main
+    from navsuite_tools.bag import main as bag_main
 
     monkeypatch.setitem(sys.modules, "foxglove", None)  # makes `import foxglove` raise ImportError
     set_handler: Callable[..., object] = lambda *_args: None  # noqa: E731 - keep pytest's handlers

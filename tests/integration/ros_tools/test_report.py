@@ -7,18 +7,18 @@ import pytest
 from geometry_msgs.msg import Twist
 from matplotlib.image import imread
 
-from ros_tools.bag.writer import BagWriter
-from ros_tools.geometry import yaw_from_quaternion
-from ros_tools.report import ReportParams, write_report
-from ros_tools.report.analysis import (
+from navsuite_tools.bag.writer import BagWriter
+from navsuite_tools.report import ReportParams, write_report
+from navsuite_tools.report.analysis import (
     Transition,
     distinct_points,
     localization_error,
     make_trajectory,
     state_segments,
 )
-from ros_tools.report.extract import load_run
-from ros_tools.report.render import AMCL_COLOR, COLLISION_COLOR, TRUTH_COLOR
+from navsuite_tools.report.extract import load_run
+from navsuite_tools.report.render import AMCL_COLOR, COLLISION_COLOR, TRUTH_COLOR
+from ros_tools.geometry import yaw_from_quaternion
 from tests.helpers.bag_synthetic import DURATION, T0, TRANSITIONS, write_synthetic_run
 from tests.helpers.report_pixels import content_fraction, distinct_colors, load_rgb, pixels_near
 
@@ -115,7 +115,7 @@ def test_report_params_are_checked():
 
 
 def test_report_cli_prints_the_png_path(run, tmp_path, capsys):
-    from ros_tools.bag.main import main
+    from navsuite_tools.bag.main import main
 
     out = tmp_path / "cli.png"
     assert main(["report", str(run.path), "-o", str(out), "--width", "800", "--height", "500"]) == 0

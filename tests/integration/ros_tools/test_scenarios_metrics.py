@@ -12,8 +12,8 @@ pytest.importorskip("nav_msgs.msg")
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Float64, Header
 
-from ros_tools.bag.writer import BagWriter
-from ros_tools.scenarios.metrics import measure, min_clearance
+from navsuite_tools.bag.writer import BagWriter
+from navsuite_tools.scenarios.metrics import measure, min_clearance
 
 
 def _write(path: Path, clearances: list[float]) -> None:

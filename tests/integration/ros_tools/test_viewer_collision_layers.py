@@ -18,8 +18,8 @@ WAIT = 20.0  # s; generous for a loaded 2-core machine
 
 @pytest.fixture
 def viewer(ros_context) -> Iterator[object]:
-    from ros_tools.viewer.main import ViewerApp
-    from ros_tools.viewer.params import ViewerParams
+    from navsuite_tools.viewer.main import ViewerApp
+    from navsuite_tools.viewer.params import ViewerParams
 
     params = ViewerParams(port=0, rate=10.0, discovery_period=0.2, max_poses=50)
     app = ViewerApp(params, context=ros_context).start()

@@ -19,8 +19,8 @@ WAIT = 20.0  # s; generous for a loaded 2-core machine
 
 @pytest.fixture
 def viewer(ros_context) -> Iterator[object]:
-    from ros_tools.viewer.main import ViewerApp
-    from ros_tools.viewer.params import ViewerParams
+    from navsuite_tools.viewer.main import ViewerApp
+    from navsuite_tools.viewer.params import ViewerParams
 
     app = ViewerApp(ViewerParams(port=0, rate=10.0, discovery_period=0.2), context=ros_context).start()
     try:
@@ -244,10 +244,11 @@ def test_a_1khz_topic_reaches_the_browser_at_most_at_the_rate(viewer, stream, sp
 
 
 def test_the_command_serves_on_a_free_port_and_stops_on_ctrl_c():
-    """``python -m ros_tools.viewer.main --port 0`` prints its URL, serves the page, exits 0 on SIGINT."""
+    """``python -m navsuite_tools.viewer.main --port 0`` prints its URL, serves the page, exits 0 on
+    SIGINT."""
     from navsuite_testing.ros import start_python, stop_process, wait_until
 
-    proc = start_python("ros_tools.viewer.main", ["--port", "0", "--rate", "5"])
+    proc = start_python("navsuite_tools.viewer.main", ["--port", "0", "--rate", "5"])
     lines: list[str] = []
     reader = threading.Thread(target=lambda: lines.extend(proc.stdout), daemon=True)
     reader.start()

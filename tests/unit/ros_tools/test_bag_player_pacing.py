@@ -17,9 +17,9 @@ import pytest
 from rclpy.serialization import deserialize_message
 from std_msgs.msg import String
 
-from ros_tools.bag.player import Player, PlayOptions
-from ros_tools.bag.reader import BagReader
-from ros_tools.bag.writer import BagWriter
+from navsuite_tools.bag.player import Player, PlayOptions
+from navsuite_tools.bag.reader import BagReader
+from navsuite_tools.bag.writer import BagWriter
 
 LOG_TIMES_S = (10.0, 10.1, 10.5, 11.0, 12.0)  # when each message was recorded (bag time)
 

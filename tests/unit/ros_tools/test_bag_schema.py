@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from ros_tools.bag.schema import SEPARATOR, message_definition, msg_file_text
+from navsuite_tools.bag.schema import SEPARATOR, message_definition, msg_file_text
 
 ODOMETRY_NESTED = [  # rosbag2 order: each type's dependencies sorted by name, depth first
     "geometry_msgs/PoseWithCovariance",

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from ros_tools.scenarios import main
-from ros_tools.scenarios.cluster import INSTALL_HINT, describe, pack, receive, requeued, require_ray
-from ros_tools.scenarios.verdict import Outcome
+from navsuite_tools.scenarios import main
+from navsuite_tools.scenarios.cluster import INSTALL_HINT, describe, pack, receive, requeued, require_ray
+from navsuite_tools.scenarios.verdict import Outcome
 
 REPO = Path(__file__).resolve().parents[3]
 

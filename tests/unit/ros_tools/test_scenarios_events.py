@@ -10,9 +10,9 @@ import sys
 
 import pytest
 
-from ros_tools.scenarios.navigation_kill import descends_from, kill_navigation, navigation_pid, parent_of
-from ros_tools.scenarios.schema import parse_scenarios
-from ros_tools.scenarios.worker import injector_spec
+from navsuite_tools.scenarios.navigation_kill import descends_from, kill_navigation, navigation_pid, parent_of
+from navsuite_tools.scenarios.schema import parse_scenarios
+from navsuite_tools.scenarios.worker import injector_spec
 
 
 @pytest.mark.parametrize(("participant", "pid"), [

@@ -16,14 +16,14 @@ from typing import Any
 
 import pytest
 
+from navsuite_tools.scenarios import commands
+from navsuite_tools.scenarios.injector import KINDS
+from navsuite_tools.scenarios.process_faults import FreezeBook, role_pid, send, simulator_pid, target_of
+from navsuite_tools.scenarios.schema import ScenarioError, parse_scenarios
+from navsuite_tools.scenarios.schema_fields import INJECTED_EVENTS, LOSABLE_TOPICS
+from navsuite_tools.scenarios.sim_events import point_along
+from navsuite_tools.scenarios.worker import injector_spec
 from ros_tools.runtime.requests import poll
-from ros_tools.scenarios import commands
-from ros_tools.scenarios.injector import KINDS
-from ros_tools.scenarios.process_faults import FreezeBook, role_pid, send, simulator_pid, target_of
-from ros_tools.scenarios.schema import ScenarioError, parse_scenarios
-from ros_tools.scenarios.schema_fields import INJECTED_EVENTS, LOSABLE_TOPICS
-from ros_tools.scenarios.sim_events import point_along
-from ros_tools.scenarios.worker import injector_spec
 
 REPO = Path(__file__).resolve().parents[3]
 

@@ -11,11 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from ros_tools.scenarios.domains import DomainPool, parse_range
-from ros_tools.scenarios.schema import Expect, GoalsMission, Pose2D, Scenario
-from ros_tools.scenarios.summary import ScenarioResult, junit_xml, summary_html
-from ros_tools.scenarios.table import Row, row_text
-from ros_tools.scenarios.verdict import Outcome, judge
+from navsuite_tools.scenarios.domains import DomainPool, parse_range
+from navsuite_tools.scenarios.schema import Expect, GoalsMission, Pose2D, Scenario
+from navsuite_tools.scenarios.summary import ScenarioResult, junit_xml, summary_html
+from navsuite_tools.scenarios.table import Row, row_text
+from navsuite_tools.scenarios.verdict import Outcome, judge
 
 REPO = Path(__file__).resolve().parents[3]
 SELFTEST = REPO / "config" / "scenarios" / "farm_selftest.yaml"
@@ -84,7 +84,7 @@ def test_two_claims_never_get_the_same_domain_and_a_release_frees_it() -> None:
 def _pytest(*args: str) -> subprocess.CompletedProcess[str]:
     """pytest in a subprocess with only this plugin (entry points off: the plugin may be installed too)."""
     env = dict(os.environ, PYTEST_DISABLE_PLUGIN_AUTOLOAD="1")
-    return subprocess.run([sys.executable, "-m", "pytest", "-p", "ros_tools.scenarios.pytest_plugin",
+    return subprocess.run([sys.executable, "-m", "pytest", "-p", "navsuite_tools.scenarios.pytest_plugin",
                            "-p", "no:cacheprovider", *args],
                           cwd=REPO, env=env, capture_output=True, text=True, timeout=120)
 
@@ -106,7 +106,7 @@ def test_pytest_reports_an_invalid_scenario_file_naming_the_field(tmp_path: Path
 
 
 def test_the_sweep_kills_every_process_carrying_the_run_marker() -> None:
-    from ros_tools.scenarios.executor import MARKER, marked_processes, sweep
+    from navsuite_tools.scenarios.executor import MARKER, marked_processes, sweep
 
     env = dict(os.environ, **{MARKER: "unit-test:sweep"})
     child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"], env=env)

@@ -13,11 +13,11 @@ from concurrent.futures import Future
 from pathlib import Path
 from typing import Any
 
-from ros_tools.scenarios.executor import Job
-from ros_tools.scenarios.farm import FARM_RECORD, SCENARIO_COPY, run_all
-from ros_tools.scenarios.rerun import EXIT_DIFFER, EXIT_SAME, EXIT_SETUP, rerun
-from ros_tools.scenarios.schema import load_scenarios
-from ros_tools.scenarios.verdict import Outcome
+from navsuite_tools.scenarios.executor import Job
+from navsuite_tools.scenarios.farm import FARM_RECORD, SCENARIO_COPY, run_all
+from navsuite_tools.scenarios.rerun import EXIT_DIFFER, EXIT_SAME, EXIT_SETUP, rerun
+from navsuite_tools.scenarios.schema import load_scenarios
+from navsuite_tools.scenarios.verdict import Outcome
 from tests.helpers.bag_synthetic import write_synthetic_run
 
 SCENARIOS = """scenarios:

@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 import yaml
 
-from ros_tools.scenarios.schema import (
+from navsuite_tools.scenarios.schema import (
     BehaviorTreeMission,
     GoalsMission,
     Pose2D,

@@ -7,10 +7,10 @@ from pathlib import Path
 
 import yaml
 
-from ros_tools.scenarios import commands, outcome
-from ros_tools.scenarios.farm import select
-from ros_tools.scenarios.schema import Expect, parse_scenarios
-from ros_tools.scenarios.verdict import Outcome, judge
+from navsuite_tools.scenarios import commands, outcome
+from navsuite_tools.scenarios.farm import select
+from navsuite_tools.scenarios.schema import Expect, parse_scenarios
+from navsuite_tools.scenarios.verdict import Outcome, judge
 
 REPO = Path(__file__).resolve().parents[3]
 
@@ -166,8 +166,8 @@ def test_goals_run_through_the_goal_driver_as_the_stack_participant(tmp_path: Pa
     scenario = _scenario({"goals": [[1, 2, 0], [3, 4, -1.5]]})
     plan = commands.plan(scenario, tmp_path, REPO)  # type: ignore[arg-type]
     assert plan.stack is not None and plan.record and plan.stack[-2:] == ["--participant", "scenario_goals"]
-    assert plan.mission[-4:] == ["ros_tools.scenarios.goal_driver", "[[1.0, 2.0, 0.0], [3.0, 4.0, -1.5]]",
-                                 "--wait-for", "/ground_truth"]
+    assert plan.mission[-4:] == ["navsuite_tools.scenarios.goal_driver",
+                                 "[[1.0, 2.0, 0.0], [3.0, 4.0, -1.5]]", "--wait-for", "/ground_truth"]
     assert "--sim-params" not in plan.stack  # no battery event: sim2d's own parameters
 
 
@@ -188,7 +188,7 @@ def test_selection_by_substring_or_glob() -> None:
 
 
 def test_a_teleport_sim2d_refused_does_not_count_as_applied(tmp_path: Path) -> None:
-    from ros_tools.scenarios.worker import _applied_events
+    from navsuite_tools.scenarios.worker import _applied_events
 
     (tmp_path / "scenario-events.log").write_text("applied kidnap [0, 0, 0] at t=8.00 s\n")
     assert _applied_events(tmp_path) == ("applied kidnap [0, 0, 0] at t=8.00 s",)

@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from ros_tools.viewer import encode
-from ros_tools.viewer.hub import LayerHub, Throttle
-from ros_tools.viewer.main import parse_args
-from ros_tools.viewer.monitors import (
+from navsuite_tools.viewer import encode
+from navsuite_tools.viewer.hub import LayerHub, Throttle
+from navsuite_tools.viewer.main import parse_args
+from navsuite_tools.viewer.monitors import (
     BtEvent,
     BtMonitor,
     SmaccMonitor,
@@ -23,7 +23,7 @@ from ros_tools.viewer.monitors import (
     layered_layout,
     short_name,
 )
-from ros_tools.viewer.params import ViewerParams
+from navsuite_tools.viewer.params import ViewerParams
 
 
 # ---------------------------------------------------------------- hub
