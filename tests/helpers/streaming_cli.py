@@ -3,7 +3,7 @@
 Why a thread: a streaming command (``ros2py topic echo``, a Foxglove bridge, a probe that waits for a
 signal) never ends by itself, so ``communicate()`` cannot be used to read it; a test waits for the
 line it needs while the child keeps running. Shared by the CLI tests' ``stream_cli`` fixture
-(tests/integration/ros_tools/conftest.py) and the runner's process tests (test_runner.py).
+(tests/integration/conftest.py) and the runner's process tests (test_runner.py).
 """
 
 from __future__ import annotations

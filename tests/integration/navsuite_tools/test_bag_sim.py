@@ -91,7 +91,7 @@ def test_play_republishes_the_same_topics_and_counts_at_the_rate(recording, ros_
     assert recorded_span > 1e9, f"the recording holds only {recorded_span / 1e9:.2f} s of /clock"
     assert np.all(np.diff(clock) >= 0)  # the replayed /clock never goes back
     assert abs((clock[-1] - clock[0]) - recorded_span) <= 2e7  # and spans what was recorded (±2 ticks)
-    # The pace of --rate 2 is checked on a fake clock (tests/unit/ros_tools/test_bag_player_pacing.py):
+    # The pace of --rate 2 is checked on a fake clock (tests/unit/navsuite_tools/test_bag_player_pacing.py):
     # measured here from arrival times it depends on the machine's load both ways (CI runs measured
     # x1.23 and x3.31, a delayed message arriving in a burst with later ones).
 

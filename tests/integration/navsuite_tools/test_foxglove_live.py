@@ -25,7 +25,7 @@ from navsuite_testing.ros import start_python, wait_until
 from navsuite_tools.bag.reader import BagError
 from navsuite_tools.bag.recorder import RecordOptions
 from navsuite_tools.bag.schema import message_definition
-from tests.integration.ros_tools.conftest import StreamingCli
+from tests.helpers.streaming_cli import StreamingCli
 
 pytestmark = pytest.mark.ros
 WAIT = 20.0  # s; generous for a loaded 2-core machine

@@ -3,7 +3,7 @@ divided by ``rate``, has passed, and /clock tracks the bag time at ``clock_hz``.
 
 Why on a fake clock: measured on the real one, the played rate depends on how loaded the machine is
 (a CI run played "--rate 2" at x1.23); here the schedule itself is checked, exactly. The integration
-test (tests/integration/ros_tools/test_bag_sim.py) checks the replay over real DDS.
+test (tests/integration/navsuite_tools/test_bag_sim.py) checks the replay over real DDS.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Fixtures for the ros2py CLI tests: live nodes spun in a background thread, and CLI runners.
+"""Fixtures shared by integration tests: live nodes spun in a background thread, and ros2py CLI runners.
 
 The CLI runs as a child process (``python -m navsuite_tools.cli.main``) that inherits the test's
 ROS_DOMAIN_ID, exactly as a user's shell would run ``ros2py``; one-shot runs are
