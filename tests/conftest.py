@@ -125,9 +125,8 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     first is the classic remedy). Unit tests, at a few milliseconds each, fill the gaps at the end.
     """
     def rank(item: pytest.Item) -> int:
-        path = Path(str(item.path))
-        folder = path.relative_to(TESTS).parts[0] if path.is_relative_to(TESTS) else ""  # the farm's YAML
-        return FOLDER_ORDER.index(folder) if folder in FOLDER_ORDER else len(FOLDER_ORDER)
+        parts = Path(str(item.path)).relative_to(TESTS).parts
+        return FOLDER_ORDER.index(parts[0]) if parts[0] in FOLDER_ORDER else len(FOLDER_ORDER)
 
     items.sort(key=rank)
 
