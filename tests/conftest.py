@@ -28,7 +28,6 @@ import re
 import tempfile
 import warnings
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -57,7 +56,6 @@ def _claim_domain_id() -> int:
     raise RuntimeError("all ROS domain ids 1..100 are held by other test sessions on this machine")
 
 
-TESTS = Path(__file__).resolve().parent
 _DOMAIN_LOCKS: list[object] = []
 keep_dds_local()
 if "NAVSUITE_TEST_DOMAIN_ID" in os.environ:
@@ -111,24 +109,6 @@ def ros_context() -> Iterator[object]:
     finally:
         if context.ok():
             rclpy.shutdown(context=context)
-
-
-#: the order the suite runs its folders in: the slowest tests first (see pytest_collection_modifyitems)
-FOLDER_ORDER = ("system", "integration", "unit")
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """Run tests/system first, then tests/integration, then tests/unit (the order within a folder kept).
-
-    Why: xdist's workers share the collected list in order, and a whole-stack test of one to two
-    minutes that starts last keeps one worker busy while the others have nothing left (longest job
-    first is the classic remedy). Unit tests, at a few milliseconds each, fill the gaps at the end.
-    """
-    def rank(item: pytest.Item) -> int:
-        parts = Path(str(item.path)).relative_to(TESTS).parts
-        return FOLDER_ORDER.index(parts[0]) if parts[0] in FOLDER_ORDER else len(FOLDER_ORDER)
-
-    items.sort(key=rank)
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:
